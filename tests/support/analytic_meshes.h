@@ -1,0 +1,147 @@
+// Meshes of analytic surfaces with known curvature, as plain arrays, for the unit tests.
+#pragma once
+
+#include <vcg_ext/mesh_arrays.h>
+
+#include <cmath>
+#include <functional>
+#include <map>
+#include <random>
+
+namespace test_meshes {
+
+using vcg_ext::Face;
+using vcg_ext::MeshArrays;
+using vcg_ext::Vec3;
+
+inline MeshArrays fromArrays(std::vector<Vec3> points, std::vector<Face> faces) {
+  MeshArrays m;
+  m.points = std::move(points);
+  m.faces = std::move(faces);
+  const int n = int(m.points.size());
+  m.compact_index.resize(n);
+  m.mesh_slot.resize(n);
+  for (int i = 0; i < n; ++i) m.compact_index[i] = m.mesh_slot[i] = i;
+  m.selected.assign(n, 0);
+  return m;
+}
+
+// Icosphere of radius r: `subdivisions` = 4 gives 2562 vertices, 5 gives 10242.
+inline MeshArrays icosphere(double r, int subdivisions) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Vec3> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<Face> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                         {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                         {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                         {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (auto &q : p) q.normalize();
+  for (int s = 0; s < subdivisions; ++s) {
+    std::map<std::pair<int, int>, int> mid;
+    auto midpoint = [&](int a, int b) {
+      auto key = std::make_pair(std::min(a, b), std::max(a, b));
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      p.push_back((p[a] + p[b]).normalized());
+      return mid[key] = int(p.size()) - 1;
+    };
+    std::vector<Face> g;
+    for (const Face &q : f) {
+      int a = midpoint(q[0], q[1]), b = midpoint(q[1], q[2]), c = midpoint(q[2], q[0]);
+      g.push_back({q[0], a, c});
+      g.push_back({q[1], b, a});
+      g.push_back({q[2], c, b});
+      g.push_back({a, b, c});
+    }
+    f.swap(g);
+  }
+  for (auto &q : p) q *= r;
+  return fromArrays(std::move(p), std::move(f));
+}
+
+// Regular triangulated grid over [x0,x1]x[y0,y1] with n x n vertices, z = height(x, y).
+inline MeshArrays heightField(int n, double x0, double x1, double y0, double y1,
+                              const std::function<double(double, double)> &height) {
+  std::vector<Vec3> p;
+  std::vector<Face> f;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double x = x0 + (x1 - x0) * i / (n - 1), y = y0 + (y1 - y0) * j / (n - 1);
+      p.emplace_back(x, y, height(x, y));
+    }
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      const int a = j * n + i, b = a + 1, c = a + n, d = c + 1;
+      // One diagonal direction everywhere: every interior vertex has valence 6.
+      f.push_back({a, b, d});
+      f.push_back({a, d, c});
+    }
+  return fromArrays(std::move(p), std::move(f));
+}
+
+// Index of the grid vertex nearest to (x, y) in a heightField(n, ...) mesh.
+inline int nearestVertex(const MeshArrays &m, double x, double y) {
+  int best = 0;
+  double bd = INFINITY;
+  for (int i = 0; i < int(m.points.size()); ++i) {
+    const double d = std::hypot(m.points[i].x() - x, m.points[i].y() - y);
+    if (d < bd) bd = d, best = i;
+  }
+  return best;
+}
+
+// Open cylinder of radius r around the z axis, `around` x `along` vertices, height h.
+inline MeshArrays cylinder(double r, double h, int around, int along) {
+  std::vector<Vec3> p;
+  std::vector<Face> f;
+  for (int j = 0; j < along; ++j)
+    for (int i = 0; i < around; ++i) {
+      // Stagger alternate rows by half a step for near-equilateral triangles.
+      const double a = 2 * M_PI * (i + 0.5 * (j % 2)) / around;
+      p.emplace_back(r * std::cos(a), r * std::sin(a), h * j / (along - 1) - h / 2);
+    }
+  for (int j = 0; j + 1 < along; ++j)
+    for (int i = 0; i < around; ++i) {
+      const int i1 = (i + 1) % around;
+      const int a = j * around + i, b = j * around + i1, c = (j + 1) * around + i,
+                d = (j + 1) * around + i1;
+      if (j % 2 == 0) {
+        f.push_back({a, b, c});
+        f.push_back({b, d, c});
+      } else {
+        f.push_back({a, d, c});
+        f.push_back({a, b, d});
+      }
+    }
+  return fromArrays(std::move(p), std::move(f));
+}
+
+// Adds Gaussian noise of standard deviation `sigma` along `direction(i)` (or in 3-D if null).
+inline void addNoise(MeshArrays &m, double sigma, unsigned seed,
+                     const std::function<Vec3(int)> &direction = nullptr) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g(0.0, sigma);
+  for (int i = 0; i < int(m.points.size()); ++i) {
+    if (direction) m.points[i] += g(rng) * direction(i);
+    else m.points[i] += Vec3(g(rng), g(rng), g(rng));
+  }
+}
+
+// The same mesh with vertices renumbered by `perm` (new index = perm[old]).
+inline MeshArrays permuted(const MeshArrays &m, const std::vector<int> &perm) {
+  std::vector<Vec3> p(m.points.size());
+  for (size_t i = 0; i < p.size(); ++i) p[perm[i]] = m.points[i];
+  std::vector<Face> f = m.faces;
+  for (auto &q : f)
+    for (int &k : q) k = perm[k];
+  return fromArrays(std::move(p), std::move(f));
+}
+
+inline std::vector<int> shuffledPermutation(int n, unsigned seed) {
+  std::vector<int> perm(n);
+  for (int i = 0; i < n; ++i) perm[i] = i;
+  std::shuffle(perm.begin(), perm.end(), std::mt19937(seed));
+  return perm;
+}
+
+} // namespace test_meshes
