@@ -1,0 +1,235 @@
+// What the two filters do to a mesh, for any vcglib mesh type (CMeshO of either MeshLab API
+// generation, or a test mesh): validate, run vcg_ext on a copy of the positions, and write
+// positions, quality, attributes and curvature directions back only when everything succeeded.
+#pragma once
+
+#include "filter_parameters.h"
+
+#include <vcg/complex/algorithms/update/bounding.h>
+#include <vcg/complex/algorithms/update/normal.h>
+#include <vcg/complex/complex.h>
+#include <vcg_ext/smooth.h>
+
+#include <chrono>
+#include <cstdio>
+
+namespace saliency_bezier {
+
+struct FilterOutcome {
+  bool ok = false;
+  std::string error;
+  std::vector<std::string> log;
+};
+
+namespace detail {
+
+inline std::string format(const char *fmt, double a = 0, double b = 0, double c = 0,
+                          double d = 0) {
+  char buffer[256];
+  std::snprintf(buffer, sizeof buffer, fmt, a, b, c, d);
+  return buffer;
+}
+
+// Stores `values` (compact order) as the per-vertex attribute `name` of the mesh's scalar type,
+// replacing an attribute of that name but another type.
+template <class MeshType>
+void storeAttribute(MeshType &m, const vcg_ext::MeshArrays &arrays, const std::string &name,
+                    const std::vector<double> &values) {
+  using Scalar = typename MeshType::ScalarType;
+  using Allocator = vcg::tri::Allocator<MeshType>;
+  auto handle = Allocator::template FindPerVertexAttribute<Scalar>(m, name);
+  if (!Allocator::template IsValidHandle<Scalar>(m, handle)) {
+    Allocator::DeletePerVertexAttribute(m, name);
+    handle = Allocator::template AddPerVertexAttribute<Scalar>(m, name);
+  }
+  for (size_t c = 0; c < values.size(); ++c) handle[arrays.mesh_slot[c]] = Scalar(values[c]);
+}
+
+template <class MeshType>
+void storeQuality(MeshType &m, const vcg_ext::MeshArrays &arrays,
+                  const std::vector<double> &values) {
+  if (!vcg::tri::HasPerVertexQuality(m)) return;
+  using Scalar = typename MeshType::VertexType::QualityType;
+  for (size_t c = 0; c < values.size(); ++c) m.vert[arrays.mesh_slot[c]].Q() = Scalar(values[c]);
+}
+
+// The rejection reasons shared by both filters; empty when the mesh can be processed.
+template <class MeshType>
+std::string rejectMesh(const MeshType &m, const vcg_ext::MeshArrays &arrays) {
+  if (m.vn == 0) return "The mesh is empty.";
+  return vcg_ext::validateForSmoothing(arrays);
+}
+
+inline std::string checkRange(const ParameterValues &p, const std::string &name, double lo,
+                              double hi) {
+  const double value = p.at(name);
+  if (!(value >= lo && value <= hi))
+    return "Parameter '" + name + "' = " + format("%g", value) + " is outside [" +
+           format("%g", lo) + ", " + format("%g", hi) + "].";
+  return {};
+}
+
+inline vcg_ext::ProgressFn progressOf(vcg::CallBackPos *cb) {
+  if (!cb) return nullptr;
+  return [cb](int percent, const char *stage) { return cb(percent, stage); };
+}
+
+} // namespace detail
+
+// "Compute Mesh Saliency and Principal Curvatures": stages 1-3, positions untouched.
+template <class MeshType>
+FilterOutcome applyComputeSaliency(MeshType &m, const ParameterValues &p, vcg::CallBackPos *cb) {
+  FilterOutcome out;
+  const vcg_ext::MeshArrays arrays = vcg_ext::extractArrays(m);
+  out.error = detail::rejectMesh(m, arrays);
+  if (out.error.empty()) out.error = detail::checkRange(p, "saliency_scale", 1e-6, 50);
+  if (out.error.empty()) out.error = detail::checkRange(p, "quality", 0, 4);
+  if (!out.error.empty()) return out;
+
+  const auto start = std::chrono::steady_clock::now();
+  const vcg_ext::Rings rings = vcg_ext::computeRings(int(arrays.points.size()), arrays.faces);
+  const vcg_ext::EdgeStatistics stats = vcg_ext::edgeStatistics(arrays.points, rings);
+  if (cb && !cb(10, "Curvature")) return out.error = "Cancelled.", out;
+  vcg_ext::SurfaceAnalysis analysis;
+  vcg_ext::computeCurvature(arrays.points, arrays.faces, rings, analysis.curvature);
+  if (cb && !cb(40, "Saliency")) return out.error = "Cancelled.", out;
+  const double scale = p.at("saliency_scale") / 100.0 * stats.bbox_diagonal;
+  vcg_ext::computeSaliency(arrays.points, rings, analysis.curvature.k2, scale, analysis.saliency);
+  if (cb && !cb(95, "Storing")) return out.error = "Cancelled.", out;
+
+  const vcg_ext::CurvatureField &c = analysis.curvature;
+  const std::vector<double> *quantities[] = {&analysis.saliency, &c.mean, &c.gauss, &c.k1, &c.k2};
+  detail::storeQuality(m, arrays, *quantities[int(p.at("quality"))]);
+  detail::storeAttribute(m, arrays, "Saliency", analysis.saliency);
+  detail::storeAttribute(m, arrays, "MeanCurvature", c.mean);
+  detail::storeAttribute(m, arrays, "GaussianCurvature", c.gauss);
+  detail::storeAttribute(m, arrays, "K1", c.k1);
+  detail::storeAttribute(m, arrays, "K2", c.k2);
+  if (vcg::tri::HasPerVertexCurvatureDir(m)) {
+    using Dir = typename MeshType::VertexType::CurVecType;
+    using DirScalar = typename Dir::ScalarType;
+    for (size_t i = 0; i < arrays.points.size(); ++i) {
+      auto &v = m.vert[arrays.mesh_slot[i]];
+      v.PD1() = Dir(DirScalar(c.dir1[i].x()), DirScalar(c.dir1[i].y()), DirScalar(c.dir1[i].z()));
+      v.PD2() = Dir(DirScalar(c.dir2[i].x()), DirScalar(c.dir2[i].y()), DirScalar(c.dir2[i].z()));
+      v.K1() = DirScalar(c.k1[i]);
+      v.K2() = DirScalar(c.k2[i]);
+    }
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  long salient = 0, boundary = 0;
+  double mean_abs_h = 0;
+  for (size_t i = 0; i < arrays.points.size(); ++i) {
+    salient += analysis.saliency[i] > 0.5;
+    boundary += rings.boundary[i];
+    mean_abs_h += std::abs(c.mean[i]) / arrays.points.size();
+  }
+  out.log.push_back(detail::format(
+      "Saliency and curvature of %.0f vertices in %.3f s (epsilon = %g of the bbox diagonal).",
+      double(arrays.points.size()), seconds, scale / stats.bbox_diagonal));
+  out.log.push_back(detail::format("Vertices with saliency > 0.5: %.0f; mean |H| = %g; "
+                                   "boundary vertices (curvature from neighbours): %.0f.",
+                                   double(salient), mean_abs_h, double(boundary)));
+  out.ok = true;
+  return out;
+}
+
+inline vcg_ext::SmoothParams smoothParamsOf(const ParameterValues &p) {
+  vcg_ext::SmoothParams s;
+  s.iterations = int(p.at("iterations"));
+  const vcg_ext::PlacementMode placements[] = {vcg_ext::PlacementMode::RingBarycentre,
+                                               vcg_ext::PlacementMode::PatchPoint,
+                                               vcg_ext::PlacementMode::Paper};
+  s.placement = placements[int(p.at("placement"))];
+  s.alpha_override = p.at("alpha_override") != 0;
+  s.alpha = p.at("alpha");
+  s.uniform_variant = p.at("uniform_curvature") == 0 ? vcg_ext::UniformCurvatureVariant::Paper
+                                                     : vcg_ext::UniformCurvatureVariant::Neighbour;
+  const vcg_ext::BoundaryMode boundaries[] = {vcg_ext::BoundaryMode::Paper,
+                                              vcg_ext::BoundaryMode::Fixed,
+                                              vcg_ext::BoundaryMode::AlongBoundary};
+  s.boundary = boundaries[int(p.at("boundary"))];
+  s.folds = p.at("fold_handling") == 0 ? vcg_ext::FoldHandling::Ignore
+                                       : vcg_ext::FoldHandling::Paper;
+  s.newton_iterations = int(p.at("newton_iterations"));
+  s.newton_step_limit = p.at("newton_step_limit");
+  s.saliency_scale = p.at("saliency_scale") / 100.0;
+  s.selected_only = p.at("selected_only") != 0;
+  return s;
+}
+
+// "Saliency Bezier Smooth": the smoothing driver; the mesh changes only when the run completes.
+template <class MeshType>
+FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
+                                        vcg::CallBackPos *cb) {
+  FilterOutcome out;
+  const vcg_ext::MeshArrays arrays = vcg_ext::extractArrays(m);
+  out.error = detail::rejectMesh(m, arrays);
+  for (const auto &check : {detail::checkRange(p, "iterations", 0, 1000),
+                            detail::checkRange(p, "placement", 0, 2),
+                            detail::checkRange(p, "alpha", 0, 1),
+                            detail::checkRange(p, "uniform_curvature", 0, 1),
+                            detail::checkRange(p, "boundary", 0, 2),
+                            detail::checkRange(p, "fold_handling", 0, 1),
+                            detail::checkRange(p, "newton_iterations", 0, 100),
+                            detail::checkRange(p, "newton_step_limit", 0, 1000),
+                            detail::checkRange(p, "saliency_scale", 1e-6, 50),
+                            detail::checkRange(p, "quality", 0, 6)})
+    if (out.error.empty()) out.error = check;
+  const vcg_ext::SmoothParams params = smoothParamsOf(p);
+  if (out.error.empty() && params.selected_only) {
+    bool any = false;
+    for (auto s : arrays.selected) any = any || s;
+    if (!any) out.error = "'Affect only selected vertices' is on but no vertex is selected.";
+  }
+  if (!out.error.empty()) return out;
+
+  std::vector<vcg_ext::Vec3> result;
+  vcg_ext::VertexQuantities q;
+  const vcg_ext::SmoothReport r =
+      vcg_ext::smoothMesh(arrays, params, result, q, detail::progressOf(cb));
+  if (r.cancelled) return out.error = "Cancelled: the mesh is unchanged.", out;
+
+  vcg_ext::writePositions(m, arrays, result);
+  const std::vector<double> *quantities[] = {&q.saliency, &q.mean, &q.gauss, &q.k1,
+                                             &q.k2,       &q.alpha, &q.displacement};
+  detail::storeQuality(m, arrays, *quantities[int(p.at("quality"))]);
+  detail::storeAttribute(m, arrays, "Saliency", q.saliency);
+  detail::storeAttribute(m, arrays, "MeanCurvature", q.mean);
+  detail::storeAttribute(m, arrays, "GaussianCurvature", q.gauss);
+  detail::storeAttribute(m, arrays, "K1", q.k1);
+  detail::storeAttribute(m, arrays, "K2", q.k2);
+  detail::storeAttribute(m, arrays, "Alpha", q.alpha);
+  detail::storeAttribute(m, arrays, "Displacement", q.displacement);
+  if (vcg::tri::HasPerVertexNormal(m) && vcg::tri::HasPerFaceNormal(m))
+    vcg::tri::UpdateNormal<MeshType>::PerVertexNormalizedPerFaceNormalized(m);
+  vcg::tri::UpdateBounding<MeshType>::Box(m);
+
+  out.log.push_back(detail::format("%.0f iterations: %.0f of %.0f vertices moved, %.0f frozen "
+                                   "(non-manifold, isolated or on degenerate faces).",
+                                   r.iterations_done, double(r.vertices_moved),
+                                   double(arrays.points.size()), double(r.frozen_vertices)));
+  out.log.push_back(detail::format("Fold fallbacks %.0f, fold skips %.0f, failed fits %.0f, "
+                                   "Newton failures %.0f.",
+                                   double(r.fold_fallbacks), double(r.fold_skips),
+                                   double(r.fit_failures), double(r.newton_failures)));
+  if (r.closed)
+    out.log.push_back(detail::format("Volume %g -> %g (ratio %.4f).", r.volume_before,
+                                     r.volume_after, r.volume_after / r.volume_before));
+  out.log.push_back(detail::format("Time: topology %.3f s, curvature %.3f s, saliency %.3f s, "
+                                   "patch fit + placement %.3f s.",
+                                   r.seconds_topology, r.seconds_curvature, r.seconds_saliency,
+                                   r.seconds_fit));
+  out.ok = true;
+  return out;
+}
+
+// Default values of a filter's parameters (for tests and tools that call the filters directly).
+inline ParameterValues defaultParameters(FilterId id) {
+  ParameterValues values;
+  for (const ParamSpec &spec : parameterSpecs(id)) values[spec.name] = spec.default_value;
+  return values;
+}
+
+} // namespace saliency_bezier

@@ -1,0 +1,364 @@
+// The smoothing driver (paper sections 3.1-3.3, ALGORITHM.md stages 0-8).
+//
+// Inputs: a mesh as plain arrays (mesh_arrays.h) and SmoothParams. Outputs: the new positions, the
+// per-vertex quantities of the last iteration, and a SmoothReport. The input is never modified, so a
+// caller can write the result back only when the run succeeded (cancel and failure leave the
+// user's mesh as it was). Every iteration reads one position array and writes another (Jacobi), so
+// the result does not depend on vertex order or thread count.
+#pragma once
+
+#include "bezier_patch.h"
+#include "patch_neighbourhood.h"
+#include "placement.h"
+#include "surface_analysis.h"
+#include "uniform_curvature.h"
+
+#include <chrono>
+#include <functional>
+#include <string>
+
+namespace vcg_ext {
+
+enum class PlacementMode {
+  Paper,          // Newton on (u,v) toward the uniform principal curvature (paper 3.3)
+  PatchPoint,     // the vertex's own patch point B(u_i, v_i)
+  RingBarycentre, // the patch point at the parameter of the 1-ring barycentre
+};
+enum class BoundaryMode { Paper, Fixed, AlongBoundary };
+enum class FoldHandling {
+  Ignore, // fit anyway: least squares does not need a one-to-one projection
+  Paper,  // retry with the vertex's own normal, then with the 1-ring; else keep the vertex
+};
+
+struct SmoothParams {
+  int iterations = 3;
+  PlacementMode placement = PlacementMode::RingBarycentre;
+  UniformCurvatureVariant uniform_variant = UniformCurvatureVariant::Neighbour;
+  bool alpha_override = true; // false: the paper's alpha = Sal_min / Sal_max
+  double alpha = 1.0;
+  BoundaryMode boundary = BoundaryMode::AlongBoundary;
+  FoldHandling folds = FoldHandling::Ignore;
+  int newton_iterations = 2;
+  double newton_step_limit = 1.0; // safeguard, in mean edge lengths; 0 = off (as printed)
+  double saliency_scale = 0.003;  // the paper's epsilon, as a fraction of the bbox diagonal
+  bool selected_only = false;
+};
+
+struct SmoothReport {
+  int iterations_done = 0;
+  bool cancelled = false;
+  long vertices_moved = 0;   // vertices whose final position differs from the input
+  long frozen_vertices = 0;  // non-manifold, isolated or on a degenerate face: never moved
+  long fold_fallbacks = 0;   // (over all iterations) neighbourhoods refitted after a fold
+  long fold_skips = 0;       // vertices kept because every fallback folded
+  long fit_failures = 0;     // degenerate neighbourhoods or failed fits: vertex kept
+  long newton_failures = 0;  // paper placement: Newton did not reach the target
+  long rejected_moves = 0;   // non-finite results: vertex kept
+  double volume_before = 0, volume_after = 0;
+  bool closed = false;
+  double mean_edge_length = 0, bbox_diagonal = 0;
+  double seconds_topology = 0, seconds_curvature = 0, seconds_saliency = 0, seconds_fit = 0;
+};
+
+struct VertexQuantities {
+  std::vector<double> saliency, k1, k2, mean, gauss, alpha, displacement;
+};
+
+// Called between stages and between blocks of vertices with a percentage; returning false cancels.
+using ProgressFn = std::function<bool(int percent, const char *stage)>;
+
+// Why a mesh cannot be smoothed (empty string: it can).
+inline std::string validateForSmoothing(const MeshArrays &mesh) {
+  if (mesh.points.empty()) return "the mesh has no vertices";
+  if (mesh.faces.empty()) return "the mesh has no faces (a point cloud): the filter needs triangles";
+  for (const Vec3 &p : mesh.points)
+    if (!p.allFinite()) return "the mesh has NaN or infinite vertex coordinates; remove them first";
+  return {};
+}
+
+inline double signedVolume(const std::vector<Vec3> &points, const std::vector<Face> &faces) {
+  double v = 0;
+  for (const Face &f : faces) v += points[f[0]].dot(points[f[1]].cross(points[f[2]]));
+  return v / 6.0;
+}
+
+namespace detail {
+
+// Per run: which vertices may move and, on the boundary, their two boundary neighbours.
+struct VertexRoles {
+  std::vector<std::uint8_t> frozen;
+  std::vector<std::array<int, 2>> boundary_neighbours; // -1 where absent
+};
+
+inline VertexRoles vertexRoles(const MeshArrays &mesh, const Rings &rings, double edge) {
+  VertexRoles roles;
+  const int n = rings.vertex_count;
+  roles.frozen.assign(n, 0);
+  roles.boundary_neighbours.assign(n, {-1, -1});
+  const double min_area = 1e-12 * edge * edge;
+  for (const Face &f : mesh.faces) {
+    const Vec3 &a = mesh.points[f[0]], &b = mesh.points[f[1]], &c = mesh.points[f[2]];
+    if (!(0.5 * (b - a).cross(c - a).norm() > min_area) || f[0] == f[1] || f[1] == f[2] ||
+        f[0] == f[2])
+      roles.frozen[f[0]] = roles.frozen[f[1]] = roles.frozen[f[2]] = 1;
+  }
+  for (int v = 0; v < n; ++v) {
+    if (rings.nonmanifold[v] || rings.isolated[v]) roles.frozen[v] = 1;
+    if (!rings.boundary[v]) continue;
+    // A boundary edge (v, w) lies in exactly one of v's faces.
+    int found = 0;
+    for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v) && found < 2; ++w) {
+      int shared = 0;
+      for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) {
+        const Face &t = mesh.faces[*f];
+        shared += (t[0] == *w || t[1] == *w || t[2] == *w);
+      }
+      if (shared == 1) roles.boundary_neighbours[v][found++] = *w;
+    }
+  }
+  return roles;
+}
+
+struct Counters {
+  long fold_fallbacks = 0, fold_skips = 0, fit_failures = 0, newton_failures = 0, rejected = 0;
+};
+
+// Mean of the unit normals of the neighbourhood's vertices (paper 3.2's "approximate normal N").
+inline Vec3 neighbourhoodNormal(int i, const Rings &rings, const std::vector<Vec3> &normals) {
+  Vec3 sum = normals[i];
+  for (const int *w = rings.ring2Begin(i); w != rings.ring2End(i); ++w) sum += normals[*w];
+  const double len = sum.norm();
+  return len > 1e-12 ? Vec3(sum / len) : normals[i];
+}
+
+} // namespace detail
+
+// One vertex's new position from the current positions `p` (stages 4-7). Returns p[i] unchanged
+// where the vertex cannot be placed, counting why.
+inline Vec3 placeVertex(int i, const MeshArrays &mesh, const Rings &rings,
+                        const std::vector<Vec3> &p, const SurfaceAnalysis &analysis,
+                        const SmoothParams &params, double mean_edge, double max_saliency,
+                        NeighbourhoodScratch &scratch, double &alpha_out,
+                        detail::Counters &counters) {
+  const CurvatureField &c = analysis.curvature;
+  LocalFrame frame;
+  Vec3 normal = detail::neighbourhoodNormal(i, rings, c.normal);
+  NeighbourhoodSize size = NeighbourhoodSize::TwoRing;
+  bool ok = normal.squaredNorm() > 0.5 &&
+            projectNeighbourhood(i, p, rings, size, normal, frame, scratch);
+  if (ok && params.folds == FoldHandling::Paper &&
+      neighbourhoodFolds(i, p, mesh.faces, rings, frame, scratch)) {
+    ++counters.fold_fallbacks;
+    normal = c.normal[i];
+    ok = projectNeighbourhood(i, p, rings, size, normal, frame, scratch) &&
+         !neighbourhoodFolds(i, p, mesh.faces, rings, frame, scratch);
+    if (!ok) {
+      size = NeighbourhoodSize::OneRing;
+      ok = projectNeighbourhood(i, p, rings, size, normal, frame, scratch) &&
+           !neighbourhoodFolds(i, p, mesh.faces, rings, frame, scratch);
+    }
+    if (!ok) {
+      ++counters.fold_skips;
+      return p[i];
+    }
+  }
+  if (!ok) {
+    ++counters.fit_failures;
+    return p[i];
+  }
+
+  // Stage 4: alpha from the saliency spread over the fitting neighbourhood.
+  double alpha = params.alpha;
+  if (!params.alpha_override) {
+    double lo = INFINITY, hi = 0;
+    for (int w : scratch.vertices) {
+      lo = std::min(lo, analysis.saliency[w]);
+      hi = std::max(hi, analysis.saliency[w]);
+    }
+    alpha = hi < 1e-6 * max_saliency || hi <= 0 ? 1.0 : lo / hi;
+  }
+  alpha_out = alpha;
+
+  BezierPatch patch;
+  const int count = int(scratch.vertices.size());
+  if (fitBezierPatch(scratch.u.data(), scratch.v.data(), scratch.local.data(), nullptr, count,
+                     alpha, patch) == FitStatus::Failed) {
+    ++counters.fit_failures;
+    return p[i];
+  }
+
+  double u = scratch.u[0], v = scratch.v[0]; // q_i is the first point
+  switch (params.placement) {
+  case PlacementMode::PatchPoint:
+    break;
+  case PlacementMode::RingBarycentre: {
+    Vec3 centre = Vec3::Zero();
+    for (const int *w = rings.ring1Begin(i); w != rings.ring1End(i); ++w) centre += p[*w];
+    const Vec3 local = frame.toLocal(centre / rings.ring1Size(i));
+    u = std::clamp(frame.u(local), 0.0, 1.0);
+    v = std::clamp(frame.v(local), 0.0, 1.0);
+    break;
+  }
+  case PlacementMode::Paper: {
+    VertexCurvature self{c.k1[i], c.k2[i], c.dir1[i], c.dir2[i], c.normal[i]};
+    constexpr int kMaxRing = 64;
+    VertexCurvature ring[kMaxRing];
+    double weights[kMaxRing];
+    int m = 0;
+    for (const int *w = rings.ring1Begin(i); w != rings.ring1End(i) && m < kMaxRing; ++w, ++m) {
+      ring[m] = {c.k1[*w], c.k2[*w], c.dir1[*w], c.dir2[*w], c.normal[*w]};
+      weights[m] = analysis.saliency[*w];
+    }
+    double k1u = 0, k2u = 0;
+    uniformPrincipalCurvature(self, ring, weights, m, params.uniform_variant, k1u, k2u);
+    NewtonOptions options;
+    options.iterations = params.newton_iterations;
+    options.max_step = params.newton_step_limit * mean_edge;
+    // Meyer's H is positive where the surface bends away from its normal (a sphere with outward
+    // normals has H = +1/r); the patch formula of paper 3.3 has the opposite sign.
+    const NewtonResult r = solveCurvatureTarget(patch, u, v, k1u * k2u, -0.5 * (k1u + k2u), options);
+    if (r.status != NewtonStatus::Converged) ++counters.newton_failures;
+    u = r.u, v = r.v; // as printed: the clamped parameter is used whether or not Newton converged
+    break;
+  }
+  }
+  const Vec3 moved = frame.toWorld(patch.eval(u, v));
+  if (!moved.allFinite()) {
+    ++counters.rejected;
+    return p[i];
+  }
+  return moved;
+}
+
+// Smooths `mesh` and writes the result to `out_points`; see the header comment.
+inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &params,
+                               std::vector<Vec3> &out_points, VertexQuantities &quantities,
+                               const ProgressFn &progress = nullptr) {
+  using clock = std::chrono::steady_clock;
+  auto seconds = [](clock::time_point a) {
+    return std::chrono::duration<double>(clock::now() - a).count();
+  };
+  SmoothReport report;
+  const int n = int(mesh.points.size());
+  auto t0 = clock::now();
+  const Rings rings = computeRings(n, mesh.faces);
+  const EdgeStatistics stats = edgeStatistics(mesh.points, rings);
+  const detail::VertexRoles roles = detail::vertexRoles(mesh, rings, stats.mean_edge_length);
+  report.seconds_topology = seconds(t0);
+  report.mean_edge_length = stats.mean_edge_length;
+  report.bbox_diagonal = stats.bbox_diagonal;
+  report.closed = true;
+  for (int v = 0; v < n; ++v) {
+    report.frozen_vertices += roles.frozen[v];
+    if (rings.boundary[v] || rings.nonmanifold[v]) report.closed = false;
+  }
+  report.volume_before = signedVolume(mesh.points, mesh.faces);
+
+  auto movable = [&](int i) {
+    if (roles.frozen[i]) return false;
+    if (params.selected_only && !mesh.selected[i]) return false;
+    if (rings.boundary[i] && params.boundary == BoundaryMode::Fixed) return false;
+    return true;
+  };
+
+  std::vector<Vec3> current = mesh.points, next = mesh.points;
+  std::vector<double> alpha(n, 1.0);
+  SurfaceAnalysis analysis;
+  const double saliency_scale = params.saliency_scale * stats.bbox_diagonal;
+  const int iterations = std::max(0, params.iterations);
+  auto report_progress = [&](int iteration, double fraction, const char *stage) {
+    if (!progress) return true;
+    const int percent = int(100.0 * (iteration + fraction) / std::max(1, iterations));
+    return progress(std::min(percent, 99), stage);
+  };
+
+  for (int it = 0; it < iterations; ++it) {
+    auto t = clock::now();
+    computeCurvature(current, mesh.faces, rings, analysis.curvature);
+    report.seconds_curvature += seconds(t);
+    if (!report_progress(it, 0.1, "Curvature")) return report.cancelled = true, report;
+    t = clock::now();
+    computeSaliency(current, rings, analysis.curvature.k2, saliency_scale, analysis.saliency);
+    report.seconds_saliency += seconds(t);
+    if (!report_progress(it, 0.3, "Saliency")) return report.cancelled = true, report;
+
+    t = clock::now();
+    double max_saliency = 0;
+    for (double s : analysis.saliency) max_saliency = std::max(max_saliency, s);
+    detail::Counters counters;
+    const int block = 1 << 16; // progress and cancel between blocks of vertices
+    for (int start = 0; start < n; start += block) {
+      const int stop = std::min(n, start + block);
+      long fold_fallbacks = 0, fold_skips = 0, fit_failures = 0, newton_failures = 0, rejected = 0;
+#pragma omp parallel reduction(+ : fold_fallbacks, fold_skips, fit_failures, newton_failures, rejected)
+      {
+        NeighbourhoodScratch scratch;
+        scratch.reserve(64);
+        detail::Counters local;
+#pragma omp for schedule(dynamic, 512)
+        for (int i = start; i < stop; ++i) {
+          next[i] = current[i];
+          if (!movable(i)) continue;
+          Vec3 moved = placeVertex(i, mesh, rings, current, analysis, params,
+                                   stats.mean_edge_length, max_saliency, scratch, alpha[i], local);
+          if (rings.boundary[i] && params.boundary == BoundaryMode::AlongBoundary) {
+            const auto &bn = roles.boundary_neighbours[i];
+            if (bn[0] >= 0 && bn[1] >= 0) {
+              const Vec3 tangent = (current[bn[1]] - current[bn[0]]).normalized();
+              moved = current[i] + tangent * tangent.dot(moved - current[i]);
+            } else {
+              moved = current[i];
+            }
+            if (!moved.allFinite()) moved = current[i];
+          }
+          next[i] = moved;
+        }
+        fold_fallbacks += local.fold_fallbacks;
+        fold_skips += local.fold_skips;
+        fit_failures += local.fit_failures;
+        newton_failures += local.newton_failures;
+        rejected += local.rejected;
+      }
+      counters.fold_fallbacks += fold_fallbacks;
+      counters.fold_skips += fold_skips;
+      counters.fit_failures += fit_failures;
+      counters.newton_failures += newton_failures;
+      counters.rejected += rejected;
+      if (!report_progress(it, 0.3 + 0.7 * stop / n, "Fitting patches"))
+        return report.cancelled = true, report;
+    }
+    report.seconds_fit += seconds(t);
+    report.fold_fallbacks += counters.fold_fallbacks;
+    report.fold_skips += counters.fold_skips;
+    report.fit_failures += counters.fit_failures;
+    report.newton_failures += counters.newton_failures;
+    report.rejected_moves += counters.rejected;
+    current.swap(next);
+    report.iterations_done = it + 1;
+  }
+
+  // The quantities describe the result: analyse it once more (cheap next to the iterations).
+  auto t = clock::now();
+  computeCurvature(current, mesh.faces, rings, analysis.curvature);
+  report.seconds_curvature += seconds(t);
+  t = clock::now();
+  computeSaliency(current, rings, analysis.curvature.k2, saliency_scale, analysis.saliency);
+  report.seconds_saliency += seconds(t);
+
+  quantities.saliency = analysis.saliency;
+  quantities.k1 = analysis.curvature.k1;
+  quantities.k2 = analysis.curvature.k2;
+  quantities.mean = analysis.curvature.mean;
+  quantities.gauss = analysis.curvature.gauss;
+  quantities.alpha = alpha;
+  quantities.displacement.assign(n, 0.0);
+  for (int i = 0; i < n; ++i) {
+    quantities.displacement[i] = (current[i] - mesh.points[i]).norm();
+    report.vertices_moved += quantities.displacement[i] > 0;
+  }
+  report.volume_after = signedVolume(current, mesh.faces);
+  out_points.swap(current);
+  return report;
+}
+
+} // namespace vcg_ext
