@@ -1,0 +1,105 @@
+#include "plugin_meshlab2025.h"
+
+#include "apply_filters.h"
+
+using namespace saliency_bezier;
+
+namespace {
+FilterId filterOf(int id) {
+  return id == SaliencyBezierSmoothPlugin::FP_COMPUTE_SALIENCY_CURVATURE
+             ? FilterId::ComputeSaliencyCurvature
+             : FilterId::SaliencyBezierSmooth;
+}
+QString q(const std::string &s) { return QString::fromStdString(s); }
+} // namespace
+
+SaliencyBezierSmoothPlugin::SaliencyBezierSmoothPlugin() {
+  typeList = {FP_COMPUTE_SALIENCY_CURVATURE, FP_SALIENCY_BEZIER_SMOOTH};
+  for (ActionIDType id : types()) actionList.push_back(new QAction(filterName(id), this));
+}
+
+QString SaliencyBezierSmoothPlugin::pluginName() const { return "FilterSaliencyBezierSmooth"; }
+
+QString SaliencyBezierSmoothPlugin::filterName(ActionIDType id) const {
+  return q(saliency_bezier::filterName(filterOf(id)));
+}
+
+QString SaliencyBezierSmoothPlugin::pythonFilterName(ActionIDType id) const {
+  return q(saliency_bezier::pythonFilterName(filterOf(id)));
+}
+
+QString SaliencyBezierSmoothPlugin::filterInfo(ActionIDType id) const {
+  return q(filterDescription(filterOf(id)));
+}
+
+FilterPlugin::FilterClass SaliencyBezierSmoothPlugin::getClass(const QAction *a) const {
+  return ID(a) == FP_SALIENCY_BEZIER_SMOOTH ? Smoothing : Quality;
+}
+
+int SaliencyBezierSmoothPlugin::getRequirements(const QAction *a) {
+  return ID(a) == FP_COMPUTE_SALIENCY_CURVATURE ? int(MeshModel::MM_VERTCURVDIR)
+                                                : int(MeshModel::MM_NONE);
+}
+
+int SaliencyBezierSmoothPlugin::getPreConditions(const QAction *) const {
+  return MeshModel::MM_FACENUMBER;
+}
+
+int SaliencyBezierSmoothPlugin::postCondition(const QAction *a) const {
+  const int written = MeshModel::MM_VERTQUALITY;
+  return ID(a) == FP_SALIENCY_BEZIER_SMOOTH
+             ? written | MeshModel::MM_VERTCOORD | MeshModel::MM_VERTNORMAL |
+                   MeshModel::MM_FACENORMAL
+             : written | MeshModel::MM_VERTCURV | MeshModel::MM_VERTCURVDIR;
+}
+
+FilterPlugin::FilterArity SaliencyBezierSmoothPlugin::filterArity(const QAction *) const {
+  return SINGLE_MESH;
+}
+
+RichParameterList SaliencyBezierSmoothPlugin::initParameterList(const QAction *a,
+                                                                const MeshDocument &md) {
+  RichParameterList list;
+  for (const ParamSpec &s : parameterSpecs(filterOf(ID(a)))) {
+    double value = s.default_value;
+    if (s.name == "selected_only" && md.mm()) value = md.mm()->cm.svn > 0;
+    switch (s.kind) {
+    case ParamKind::Int: list.addParam(RichInt(q(s.name), int(value), q(s.label), q(s.tooltip))); break;
+    case ParamKind::Float: list.addParam(RichFloat(q(s.name), Scalarm(value), q(s.label), q(s.tooltip))); break;
+    case ParamKind::Bool: list.addParam(RichBool(q(s.name), value != 0, q(s.label), q(s.tooltip))); break;
+    case ParamKind::Enum: {
+      QStringList choices;
+      for (const auto &c : s.choices) choices << q(c);
+      list.addParam(RichEnum(q(s.name), int(value), choices, q(s.label), q(s.tooltip)));
+      break;
+    }
+    }
+  }
+  return list;
+}
+
+std::map<std::string, QVariant>
+SaliencyBezierSmoothPlugin::applyFilter(const QAction *a, const RichParameterList &list,
+                                        MeshDocument &md, unsigned int &, vcg::CallBackPos *cb) {
+  MeshModel *mm = md.mm();
+  if (!mm) throw MLException("No current mesh.");
+  const FilterId id = filterOf(ID(a));
+  ParameterValues values;
+  for (const ParamSpec &s : parameterSpecs(id)) {
+    const QString name = q(s.name);
+    switch (s.kind) {
+    case ParamKind::Int: values[s.name] = list.getInt(name); break;
+    case ParamKind::Float: values[s.name] = list.getFloat(name); break;
+    case ParamKind::Bool: values[s.name] = list.getBool(name); break;
+    case ParamKind::Enum: values[s.name] = list.getEnum(name); break;
+    }
+  }
+  const FilterOutcome outcome = id == FilterId::ComputeSaliencyCurvature
+                                    ? applyComputeSaliency(mm->cm, values, cb)
+                                    : applySaliencyBezierSmooth(mm->cm, values, cb);
+  for (const std::string &line : outcome.log) log(line);
+  if (!outcome.ok) throw MLException(q(outcome.error));
+  return {};
+}
+
+MESHLAB_PLUGIN_NAME_EXPORTER(SaliencyBezierSmoothPlugin)
