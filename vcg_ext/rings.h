@@ -84,13 +84,43 @@ inline Rings computeRings(int vertex_count, const std::vector<Face> &faces) {
   std::sort(adjacency.begin(), adjacency.end());
   detail::buildCsr(n, adjacency, r.ring1_offsets, r.ring1);
 
-  // A manifold vertex has #neighbours == #faces (closed fan) or #faces + 1 (one open fan); more
-  // neighbours than that means several fans meet at the vertex (a "bow-tie").
+  // A manifold vertex's faces form one fan: its link (the edges opposite to it) is one path or one
+  // cycle. Count the link's connected components by repeatedly absorbing faces that share a
+  // neighbour with the growing fan; a second component is a "bow-tie".
+  std::vector<int> fan_faces, members;
   for (int v = 0; v < n; ++v) {
     const int nf = r.face_offsets[v + 1] - r.face_offsets[v];
-    const int nr = r.ring1Size(v);
-    if (nf == 0) r.isolated[v] = 1;
-    else if (nr > nf + 1 || (r.boundary[v] && nr != nf + 1)) r.nonmanifold[v] = 1;
+    if (nf == 0) {
+      r.isolated[v] = 1;
+      continue;
+    }
+    fan_faces.assign(r.facesBegin(v), r.facesEnd(v));
+    members.clear();
+    auto others = [&](int f, int k) {
+      const Face &t = faces[f];
+      return t[0] == v ? (k ? t[2] : t[1]) : t[1] == v ? (k ? t[0] : t[2]) : (k ? t[1] : t[0]);
+    };
+    members.push_back(others(fan_faces.back(), 0));
+    members.push_back(others(fan_faces.back(), 1));
+    fan_faces.pop_back();
+    for (bool grew = true; grew && !fan_faces.empty();) {
+      grew = false;
+      for (size_t k = 0; k < fan_faces.size();) {
+        const int a = others(fan_faces[k], 0), b = others(fan_faces[k], 1);
+        const bool touches = std::find(members.begin(), members.end(), a) != members.end() ||
+                             std::find(members.begin(), members.end(), b) != members.end();
+        if (touches) {
+          members.push_back(a);
+          members.push_back(b);
+          fan_faces[k] = fan_faces.back();
+          fan_faces.pop_back();
+          grew = true;
+        } else {
+          ++k;
+        }
+      }
+    }
+    if (!fan_faces.empty()) r.nonmanifold[v] = 1;
   }
 
   // 2-ring: union of the neighbours' 1-rings, sorted, without v itself.

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "bezier_patch.h"
+#include "mesh_metrics.h"
 #include "patch_neighbourhood.h"
 #include "placement.h"
 #include "surface_analysis.h"
@@ -74,12 +75,6 @@ inline std::string validateForSmoothing(const MeshArrays &mesh) {
   for (const Vec3 &p : mesh.points)
     if (!p.allFinite()) return "the mesh has NaN or infinite vertex coordinates; remove them first";
   return {};
-}
-
-inline double signedVolume(const std::vector<Vec3> &points, const std::vector<Face> &faces) {
-  double v = 0;
-  for (const Face &f : faces) v += points[f[0]].dot(points[f[1]].cross(points[f[2]]));
-  return v / 6.0;
 }
 
 namespace detail {
@@ -303,7 +298,11 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
                                    stats.mean_edge_length, max_saliency, scratch, alpha[i], local);
           if (rings.boundary[i] && params.boundary == BoundaryMode::AlongBoundary) {
             const auto &bn = roles.boundary_neighbours[i];
-            if (bn[0] >= 0 && bn[1] >= 0) {
+            const Vec3 in = bn[0] >= 0 ? Vec3(current[i] - current[bn[0]]) : Vec3::Zero();
+            const Vec3 out = bn[1] >= 0 ? Vec3(current[bn[1]] - current[i]) : Vec3::Zero();
+            // A boundary corner (turning more than 45 degrees) is a feature: it stays.
+            const bool corner = in.dot(out) < std::cos(M_PI / 4) * in.norm() * out.norm();
+            if (bn[0] >= 0 && bn[1] >= 0 && !corner) {
               const Vec3 tangent = (current[bn[1]] - current[bn[0]]).normalized();
               moved = current[i] + tangent * tangent.dot(moved - current[i]);
             } else {
