@@ -1,0 +1,207 @@
+// Stages 1–2: vertex normals, Meyer curvatures and principal directions.
+//
+// Inputs: positions, triangles and their Rings (stage 0). Outputs, per vertex in compact order:
+// area-weighted unit normal (paper 3.1), Meyer mixed Voronoi area, mean curvature H, Gaussian
+// curvature K, principal curvatures k1 >= k2 (Meyer, Desbrun, Schröder, Barr 2003, as the paper's
+// 3.1 asks) and principal directions from a Taubin (1995) style tangent-plane tensor fit, which the
+// paper needs in 3.3 but never defines.
+//
+// Sign convention: outward normals of a counter-clockwise oriented closed mesh; a sphere of radius r
+// has k1 = k2 = H = +1/r.
+//
+// Written on the flat arrays instead of wrapping vcg::tri::UpdateCurvature: that works on the
+// mesh's (float, in MeshLab 2020.09) scalar and scatter-adds over faces, which is neither double
+// precision nor independent of thread count and vertex order; here each vertex gathers from its own
+// incident faces.
+#pragma once
+
+#include "rings.h"
+
+#include <Eigen/Geometry> // cross products
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+
+namespace vcg_ext {
+
+struct CurvatureField {       // per vertex, compact order
+  std::vector<Vec3> normal;   // area-weighted, unit (zero vector for isolated vertices)
+  std::vector<double> area;   // Meyer mixed Voronoi area
+  std::vector<double> mean;   // H, signed (convex sphere with outward normals: H = +1/r)
+  std::vector<double> gauss;  // K
+  std::vector<double> k1, k2; // k1 >= k2
+  std::vector<Vec3> dir1, dir2; // unit principal directions in the tangent plane (dir1 for k1)
+};
+
+// Face-area-weighted vertex normals (paper 3.1). Zero where the incident faces have no area.
+inline void computeVertexNormals(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                 const Rings &rings, std::vector<Vec3> &normals) {
+  const int n = rings.vertex_count;
+  normals.resize(n);
+#pragma omp parallel for schedule(static)
+  for (int v = 0; v < n; ++v) {
+    Vec3 sum = Vec3::Zero();
+    for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) {
+      const Face &t = faces[*f];
+      // The cross product's length is twice the face area: the weighting comes for free.
+      sum += (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
+    }
+    const double length = sum.norm();
+    normals[v] = (length > 0 && std::isfinite(length)) ? Vec3(sum / length) : Vec3::Zero();
+  }
+}
+
+namespace detail {
+
+// A triangle counts as degenerate when its area is negligible against its longest edge.
+inline bool isDegenerateTriangle(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
+  const double longest2 =
+      std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  const double twice_area = (b - a).cross(c - a).norm();
+  return !(longest2 > 0) || !(twice_area > 1e-12 * longest2) || !std::isfinite(twice_area);
+}
+
+// A fixed orthonormal tangent frame that depends only on the normal (so on nothing order-related).
+inline void tangentFrame(const Vec3 &normal, Vec3 &t1, Vec3 &t2) {
+  const Vec3 a = std::abs(normal.x()) < 0.6 ? Vec3::UnitX()
+                 : std::abs(normal.y()) < 0.6 ? Vec3::UnitY()
+                                              : Vec3::UnitZ();
+  t1 = a.cross(normal).normalized();
+  t2 = normal.cross(t1);
+}
+
+// Directions of a symmetric tangent tensor [a b; b c] given in the frame (t1, t2): dir1 is the
+// eigenvector of the larger eigenvalue; (dir1, dir2, normal) is right-handed.
+inline void tensorDirections(double a, double b, double c, const Vec3 &t1, const Vec3 &t2,
+                             const Vec3 &normal, Vec3 &dir1, Vec3 &dir2) {
+  const double phi = 0.5 * std::atan2(2 * b, a - c);
+  dir1 = std::cos(phi) * t1 + std::sin(phi) * t2;
+  dir2 = normal.cross(dir1);
+}
+
+} // namespace detail
+
+// Meyer et al. 2003 H, K, k1, k2 plus a per-vertex curvature tensor fit for the directions.
+// Non-manifold, isolated and degenerate-face vertices get zeros (directions: a tangent frame when
+// the normal exists, zero otherwise). Boundary vertices: see the second pass.
+inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                             const Rings &rings, CurvatureField &out) {
+  const int n = rings.vertex_count;
+  computeVertexNormals(points, faces, rings, out.normal);
+  out.area.assign(n, 0.0);
+  out.mean.assign(n, 0.0);
+  out.gauss.assign(n, 0.0);
+  out.k1.assign(n, 0.0);
+  out.k2.assign(n, 0.0);
+  out.dir1.assign(n, Vec3::Zero());
+  out.dir2.assign(n, Vec3::Zero());
+  // Vertices whose Meyer values are defined: the ones boundary vertices borrow from.
+  std::vector<std::uint8_t> interior_valid(n, 0);
+  std::vector<std::uint8_t> degenerate(n, 0);
+
+#pragma omp parallel for schedule(static)
+  for (int v = 0; v < n; ++v) {
+    const Vec3 &normal = out.normal[v];
+    Vec3 t1 = Vec3::Zero(), t2 = Vec3::Zero();
+    if (normal.squaredNorm() > 0) {
+      detail::tangentFrame(normal, t1, t2);
+      out.dir1[v] = t1;
+      out.dir2[v] = t2;
+    }
+    if (rings.isolated[v] || rings.nonmanifold[v] || normal.squaredNorm() == 0) continue;
+
+    const Vec3 &p = points[v];
+    double mixed_area = 0, angle_sum = 0;
+    Vec3 laplacian = Vec3::Zero(); // Σ (cot α + cot β)(q_j − q_i), pointing inward on a sphere
+    // Least-squares tensor fit κ(c, s) = a c² + 2 b c s + d s² to the edges' normal curvatures,
+    // each edge weighted by the area of the face it is seen from (twice for interior edges).
+    Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+    bool has_degenerate_face = false;
+    for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) {
+      const Face &t = faces[*f];
+      const int corner = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+      const Vec3 &q = points[t[(corner + 1) % 3]], &r = points[t[(corner + 2) % 3]];
+      if (detail::isDegenerateTriangle(p, q, r)) {
+        has_degenerate_face = true;
+        break;
+      }
+      const Vec3 pq = q - p, pr = r - p, qr = r - q;
+      const double twice_area = pq.cross(pr).norm();
+      const double dot_p = pq.dot(pr), dot_q = -pq.dot(qr), dot_r = pr.dot(qr);
+      const double cot_q = dot_q / twice_area, cot_r = dot_r / twice_area;
+      laplacian += cot_r * pq + cot_q * pr;
+      angle_sum += std::atan2(twice_area, dot_p);
+      // Meyer's mixed area: Voronoi region unless the triangle is obtuse.
+      if (dot_p >= 0 && dot_q >= 0 && dot_r >= 0)
+        mixed_area += (pr.squaredNorm() * cot_q + pq.squaredNorm() * cot_r) / 8;
+      else
+        mixed_area += dot_p < 0 ? twice_area / 4 : twice_area / 8;
+
+      for (const Vec3 *edge : {&pq, &pr}) {
+        const double length2 = edge->squaredNorm();
+        const double along_normal = edge->dot(normal);
+        const Vec3 tangent = *edge - along_normal * normal;
+        const double tangent_length = tangent.norm();
+        if (!(tangent_length > 1e-12 * std::sqrt(length2))) continue;
+        const double c = tangent.dot(t1) / tangent_length, s = tangent.dot(t2) / tangent_length;
+        // The neighbour lies below the tangent plane on a sphere: curvature positive.
+        const double kappa = -2 * along_normal / length2;
+        const Eigen::Vector3d row(c * c, 2 * c * s, s * s);
+        normal_matrix += (0.5 * twice_area) * row * row.transpose();
+        rhs += (0.5 * twice_area) * kappa * row;
+      }
+    }
+    if (has_degenerate_face || !(mixed_area > 0)) {
+      degenerate[v] = 1;
+      continue;
+    }
+    out.area[v] = mixed_area;
+    if (rings.boundary[v]) continue;
+
+    const double H = -laplacian.dot(normal) / (4 * mixed_area);
+    const double K = (2 * M_PI - angle_sum) / mixed_area;
+    const double root = std::sqrt(std::max(H * H - K, 0.0));
+    out.mean[v] = H;
+    out.gauss[v] = K;
+    out.k1[v] = H + root;
+    out.k2[v] = H - root;
+    // Rank-revealing: a fan with fewer than three edge directions yields the minimum-norm tensor.
+    Eigen::JacobiSVD<Eigen::Matrix3d> svd(normal_matrix, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    svd.setThreshold(1e-10);
+    const Eigen::Vector3d tensor = svd.solve(rhs);
+    detail::tensorDirections(tensor[0], tensor[1], tensor[2], t1, t2, normal, out.dir1[v],
+                             out.dir2[v]);
+    interior_valid[v] = 1;
+  }
+
+  // Boundary vertices: the angle deficit is undefined there, so H, K, k1, k2 are the averages of
+  // the interior 1-ring neighbours' values (0 if none), and the directions are the eigenvectors of
+  // their averaged anisotropic tensors (k1 − k2) d1 d1ᵀ projected into this tangent plane.
+#pragma omp parallel for schedule(static)
+  for (int v = 0; v < n; ++v) {
+    if (!rings.boundary[v] || rings.nonmanifold[v] || degenerate[v] || out.area[v] == 0) continue;
+    double H = 0, K = 0, k1 = 0, k2 = 0;
+    Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
+    int count = 0;
+    for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) {
+      if (!interior_valid[*w]) continue;
+      H += out.mean[*w];
+      K += out.gauss[*w];
+      k1 += out.k1[*w];
+      k2 += out.k2[*w];
+      tensor += (out.k1[*w] - out.k2[*w]) * out.dir1[*w] * out.dir1[*w].transpose();
+      ++count;
+    }
+    if (count == 0) continue;
+    out.mean[v] = H / count;
+    out.gauss[v] = K / count;
+    out.k1[v] = k1 / count;
+    out.k2[v] = k2 / count;
+    const Vec3 t1 = out.dir1[v], t2 = out.dir2[v]; // the tangent frame set in the first pass
+    detail::tensorDirections(t1.dot(tensor * t1), t1.dot(tensor * t2), t2.dot(tensor * t2), t1,
+                             t2, out.normal[v], out.dir1[v], out.dir2[v]);
+  }
+}
+
+} // namespace vcg_ext

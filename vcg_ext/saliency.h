@@ -1,0 +1,266 @@
+// Stage 3: multi-scale mesh saliency (Lee, Varshney, Jacobs 2005, as modified by the paper's 2.2).
+//
+// Inputs: positions, Rings (for the 1-ring local maxima), a per-vertex scalar map (the driver
+// passes k2, the paper's "negative minima of principal curvatures") and ε, an absolute length
+// (the paper: 0.3% of the bounding-box diagonal). Output: per-vertex saliency in [0, 1].
+//
+// G(C, v, σ) = Σ C(x) exp(−|x−v|²/2σ²) / Σ exp(−|x−v|²/2σ²) over the vertices x with |x−v| < 2σ
+// (Euclidean); S_i = |G(σ_i) − G(2σ_i)| for σ_i ∈ {2, 3, 4, 5, 6}·ε. Each S_i is divided by its
+// maximum M_i, multiplied by (M_i − m̄_i)² with m̄_i the mean of its other local maxima, and the sum
+// over the scales is divided by its maximum. Dividing by the maximum (rather than min-max
+// rescaling) keeps 0 meaning "not salient", which the ratio α = Sal_min/Sal_max of stage 4 relies on.
+//
+// Neighbours come from a uniform grid on flat arrays rather than vcglib's GridStaticPtr or KdTree:
+// those index mesh objects in the mesh's scalar type and fill a result container per query, while
+// this stage runs one query per vertex on up to millions of vertices.
+#pragma once
+
+#include "rings.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <utility>
+
+namespace vcg_ext {
+
+namespace detail {
+
+// The eight distinct σ/ε the five scales need: σ_i ∈ {2..6}, 2σ_i ∈ {4, 6, 8, 10, 12}.
+constexpr int kSaliencySigmaCount = 8;
+constexpr int kSaliencySigmas[kSaliencySigmaCount] = {2, 3, 4, 5, 6, 8, 10, 12};
+constexpr int kSaliencyScales = 5;
+constexpr int kScaleFine[kSaliencyScales] = {0, 1, 2, 3, 4};   // index of σ_i in kSaliencySigmas
+constexpr int kScaleCoarse[kSaliencyScales] = {2, 4, 5, 6, 7}; // index of 2σ_i
+
+struct GridPoint {
+  double x, y, z, value;
+};
+
+// Vertices bucketed into cubic cells, cells in x-fastest order and the vertices of a cell
+// contiguous, so a row of cells along x is one contiguous range.
+struct UniformPointGrid {
+  Vec3 origin = Vec3::Zero();
+  double cell = 1;
+  int nx = 1, ny = 1, nz = 1;
+  std::vector<int> cell_start; // points of cell c: sorted[cell_start[c] .. cell_start[c+1])
+  std::vector<GridPoint> sorted;
+  std::vector<int> sorted_vertex; // the vertex index of each sorted point
+
+  int clampedCell(double coordinate, double lo, int count) const {
+    const int c = int(std::floor((coordinate - lo) / cell));
+    return std::min(std::max(c, 0), count - 1);
+  }
+
+  void build(const std::vector<Vec3> &points, const std::vector<double> &values,
+             const std::vector<int> &active, double cell_size) {
+    Vec3 lo = Vec3::Constant(INFINITY), hi = -lo;
+    for (int v : active) {
+      lo = lo.cwiseMin(points[v]);
+      hi = hi.cwiseMax(points[v]);
+    }
+    origin = lo;
+    cell = cell_size;
+    // Keep the cell array within a few entries per point, whatever ε the user chose.
+    const double max_cells = 4.0 * double(active.size()) + 4096;
+    const Vec3 extent = hi - lo;
+    if (!(cell > 0)) cell = std::max(extent.maxCoeff(), 1.0);
+    for (;;) {
+      const Vec3 counts = (extent / cell).array().floor() + 1.0;
+      if (counts.prod() <= max_cells) {
+        nx = int(counts.x()), ny = int(counts.y()), nz = int(counts.z());
+        break;
+      }
+      cell *= 1.25;
+    }
+    const int cell_count = nx * ny * nz;
+    // Inside a cell, points follow a Morton order of 8×8×8 sub-cells: neighbours in memory are
+    // neighbours in space, so the σ cut-off tests in the sweep branch predictably. Ties keep
+    // vertex order.
+    auto sub_cell = [&](double coordinate, double lo_c, int c) {
+      const int s = int((coordinate - lo_c - c * cell) * (8 / cell));
+      return unsigned(std::min(std::max(s, 0), 7));
+    };
+    auto spread = [](unsigned b) { return (b & 1u) | ((b & 2u) << 2) | ((b & 4u) << 4); };
+    std::vector<std::pair<std::uint64_t, int>> keyed(active.size());
+    for (size_t a = 0; a < active.size(); ++a) {
+      const Vec3 &p = points[active[a]];
+      const int cx = clampedCell(p.x(), lo.x(), nx), cy = clampedCell(p.y(), lo.y(), ny),
+                cz = clampedCell(p.z(), lo.z(), nz);
+      const unsigned morton = spread(sub_cell(p.x(), lo.x(), cx)) |
+                              (spread(sub_cell(p.y(), lo.y(), cy)) << 1) |
+                              (spread(sub_cell(p.z(), lo.z(), cz)) << 2);
+      const std::uint64_t cell_id = (std::uint64_t(cz) * ny + cy) * nx + cx;
+      keyed[a] = {cell_id * 512 + morton, active[a]};
+    }
+    std::sort(keyed.begin(), keyed.end());
+    cell_start.assign(cell_count + 1, 0);
+    sorted.resize(active.size());
+    sorted_vertex.resize(active.size());
+    for (size_t a = 0; a < keyed.size(); ++a) {
+      const int v = keyed[a].second;
+      ++cell_start[keyed[a].first / 512 + 1];
+      sorted_vertex[a] = v;
+      sorted[a] = {points[v].x(), points[v].y(), points[v].z(), values[v]};
+    }
+    for (int c = 0; c < cell_count; ++c) cell_start[c + 1] += cell_start[c];
+  }
+};
+
+// Distance from x to the interval [lo, hi], squared.
+inline double squaredGap(double x, double lo, double hi) {
+  const double g = x < lo ? lo - x : x > hi ? x - hi : 0.0;
+  return g * g;
+}
+
+// Gaussian-weighted means of the map around p at all eight σ in one sweep.
+inline void gaussianMeansAllSigmas(const UniformPointGrid &grid, const Vec3 &p, double epsilon,
+                                   double means[kSaliencySigmaCount]) {
+  double numerator[kSaliencySigmaCount] = {}, denominator[kSaliencySigmaCount] = {};
+  double cutoff2[kSaliencySigmaCount]; // (2σ)²
+  for (int s = 0; s < kSaliencySigmaCount; ++s)
+    cutoff2[s] = 4.0 * kSaliencySigmas[s] * kSaliencySigmas[s] * epsilon * epsilon;
+  const double radius = 2 * kSaliencySigmas[kSaliencySigmaCount - 1] * epsilon;
+  const double radius2 = radius * radius, inv_two_eps2 = 1.0 / (2 * epsilon * epsilon);
+
+  const int z0 = grid.clampedCell(p.z() - radius, grid.origin.z(), grid.nz);
+  const int z1 = grid.clampedCell(p.z() + radius, grid.origin.z(), grid.nz);
+  const int y0 = grid.clampedCell(p.y() - radius, grid.origin.y(), grid.ny);
+  const int y1 = grid.clampedCell(p.y() + radius, grid.origin.y(), grid.ny);
+  for (int iz = z0; iz <= z1; ++iz) {
+    const double z_lo = grid.origin.z() + iz * grid.cell;
+    const double gap_z = squaredGap(p.z(), z_lo, z_lo + grid.cell);
+    if (gap_z >= radius2) continue;
+    for (int iy = y0; iy <= y1; ++iy) {
+      const double y_lo = grid.origin.y() + iy * grid.cell;
+      const double gap_yz = gap_z + squaredGap(p.y(), y_lo, y_lo + grid.cell);
+      if (gap_yz >= radius2) continue;
+      // Only the x cells the sphere reaches in this row: one contiguous range of points.
+      const double reach_x = std::sqrt(radius2 - gap_yz);
+      const int x0 = grid.clampedCell(p.x() - reach_x, grid.origin.x(), grid.nx);
+      const int x1 = grid.clampedCell(p.x() + reach_x, grid.origin.x(), grid.nx);
+      const int row = (iz * grid.ny + iy) * grid.nx;
+      const GridPoint *begin = grid.sorted.data() + grid.cell_start[row + x0];
+      const GridPoint *end = grid.sorted.data() + grid.cell_start[row + x1 + 1];
+      for (const GridPoint *q = begin; q != end; ++q) {
+        const double dx = q->x - p.x(), dy = q->y - p.y(), dz = q->z - p.z();
+        const double d2 = dx * dx + dy * dy + dz * dz;
+        if (d2 >= radius2) continue;
+        // Cut-offs grow with σ, so walk from the largest σ down. exp(−t/k²) for k = 6, 5, 4, 3, 2
+        // are exact fourth powers of the k = 12, 10, 8, 6, 4 weights: three exp calls at most.
+        const double t = d2 * inv_two_eps2, c = q->value;
+        const double w12 = std::exp(-t / 144);
+        numerator[7] += w12 * c, denominator[7] += w12;
+        if (d2 >= cutoff2[6]) continue;
+        const double w10 = std::exp(-t / 100);
+        numerator[6] += w10 * c, denominator[6] += w10;
+        if (d2 >= cutoff2[5]) continue;
+        const double w8 = std::exp(-t / 64);
+        numerator[5] += w8 * c, denominator[5] += w8;
+        if (d2 >= cutoff2[4]) continue;
+        const double w6 = (w12 * w12) * (w12 * w12);
+        numerator[4] += w6 * c, denominator[4] += w6;
+        if (d2 >= cutoff2[3]) continue;
+        const double w5 = (w10 * w10) * (w10 * w10);
+        numerator[3] += w5 * c, denominator[3] += w5;
+        if (d2 >= cutoff2[2]) continue;
+        const double w4 = (w8 * w8) * (w8 * w8);
+        numerator[2] += w4 * c, denominator[2] += w4;
+        if (d2 >= cutoff2[1]) continue;
+        const double w3 = (w6 * w6) * (w6 * w6);
+        numerator[1] += w3 * c, denominator[1] += w3;
+        if (d2 >= cutoff2[0]) continue;
+        const double w2 = (w4 * w4) * (w4 * w4);
+        numerator[0] += w2 * c, denominator[0] += w2;
+      }
+    }
+  }
+  // The vertex itself is always inside every cut-off, so no denominator is zero.
+  for (int s = 0; s < kSaliencySigmaCount; ++s)
+    means[s] = denominator[s] > 0 ? numerator[s] / denominator[s] : 0.0;
+}
+
+// computeSaliency with the grid's cell edge as a fraction of the largest cut-off radius (24ε).
+inline void computeSaliencyWithCells(const std::vector<Vec3> &points, const Rings &rings,
+                                     const std::vector<double> &curvature_map, double epsilon,
+                                     std::vector<double> &saliency, int cells_per_radius) {
+  const int n = rings.vertex_count;
+  saliency.assign(n, 0.0);
+  if (n == 0 || !(epsilon > 0) || !std::isfinite(epsilon)) return;
+
+  // Isolated vertices carry no curvature: they neither contribute nor get a saliency.
+  std::vector<int> active;
+  active.reserve(n);
+  for (int v = 0; v < n; ++v)
+    if (!rings.isolated[v]) active.push_back(v);
+  if (active.empty()) return;
+
+  // Means and their differences are taken of the map minus its mid-range: S is unchanged, but the
+  // rounding is relative to the map's spread instead of its offset, and a constant map gives S = 0.
+  double lowest = INFINITY, highest = -INFINITY;
+  for (int v : active) {
+    lowest = std::min(lowest, curvature_map[v]);
+    highest = std::max(highest, curvature_map[v]);
+  }
+  const double middle = 0.5 * (lowest + highest), half_spread = 0.5 * (highest - lowest);
+  if (!(half_spread > 0) || !std::isfinite(half_spread)) return;
+  std::vector<double> centred(n, 0.0);
+  for (int v : active) centred[v] = curvature_map[v] - middle;
+
+  UniformPointGrid grid;
+  const double radius = 2 * kSaliencySigmas[kSaliencySigmaCount - 1] * epsilon;
+  grid.build(points, centred, active, radius / std::max(cells_per_radius, 1));
+
+  std::vector<double> scale_saliency(size_t(kSaliencyScales) * n, 0.0); // [scale * n + v]
+  // Queries in grid order, so consecutive queries share their neighbours in cache. With the
+  // Morton order this took a shuffled 160k-vertex sphere from 9.5 s to 6.0 s (one core).
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int a = 0; a < int(active.size()); ++a) {
+    const int v = grid.sorted_vertex[a];
+    double means[kSaliencySigmaCount];
+    gaussianMeansAllSigmas(grid, points[v], epsilon, means);
+    for (int i = 0; i < kSaliencyScales; ++i)
+      scale_saliency[size_t(i) * n + v] = std::abs(means[kScaleFine[i]] - means[kScaleCoarse[i]]);
+  }
+
+  // Non-linear suppression: a scale with one dominant peak keeps its weight, a scale with many
+  // comparable peaks is damped. Sums run serially in vertex order (thread-count independent).
+  for (int i = 0; i < kSaliencyScales; ++i) {
+    double *s = scale_saliency.data() + size_t(i) * n;
+    const double maximum = *std::max_element(s, s + n);
+    if (!(maximum > 1e-12 * half_spread)) continue; // rounding only: this scale sees nothing
+    for (int v = 0; v < n; ++v) s[v] /= maximum;
+    // Near-ties count as maxima on both sides (so the result does not hinge on rounding); a
+    // plateau at zero is not a peak.
+    const double tie = 1e-12;
+    double peak_sum = 0;
+    int peak_count = 0;
+    for (int v : active) {
+      if (!(s[v] > tie)) continue;
+      bool is_peak = true;
+      for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v) && is_peak; ++w)
+        is_peak = s[v] >= s[*w] - tie;
+      if (is_peak) peak_sum += s[v], ++peak_count;
+    }
+    // The global maximum (1 after normalising) is always one of the peaks: leave it out.
+    const double other_peaks_mean = peak_count > 1 ? (peak_sum - 1.0) / (peak_count - 1) : 0.0;
+    const double weight = (1.0 - other_peaks_mean) * (1.0 - other_peaks_mean);
+    for (int v = 0; v < n; ++v) saliency[v] += weight * s[v];
+  }
+  const double maximum = *std::max_element(saliency.begin(), saliency.end());
+  if (maximum > 0)
+    for (double &x : saliency) x /= maximum;
+}
+
+} // namespace detail
+
+// Lee et al. 2005 multi-scale saliency (as modified by the paper) of `curvature_map` (the driver
+// passes k2); σ_i = {2, 3, 4, 5, 6}·ε with ε an absolute length; output in [0, 1]. Grid cells are
+// 12ε, half the largest cut-off 2·(2σ_5) = 24ε; 24ε, 8ε and 6ε cells measured within 7% of it.
+inline void computeSaliency(const std::vector<Vec3> &points, const Rings &rings,
+                            const std::vector<double> &curvature_map, double epsilon,
+                            std::vector<double> &saliency) {
+  detail::computeSaliencyWithCells(points, rings, curvature_map, epsilon, saliency, 2);
+}
+
+} // namespace vcg_ext
