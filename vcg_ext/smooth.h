@@ -261,6 +261,8 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
   SurfaceAnalysis analysis;
   const double saliency_scale = params.saliency_scale * stats.bbox_diagonal;
   const int iterations = std::max(0, params.iterations);
+  const bool needs_saliency = params.placement == PlacementMode::Paper || !params.alpha_override;
+  if (!needs_saliency) analysis.saliency.assign(n, 0.0);
   auto report_progress = [&](int iteration, double fraction, const char *stage) {
     if (!progress) return true;
     const int percent = int(100.0 * (iteration + fraction) / std::max(1, iterations));
@@ -272,10 +274,14 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
     computeCurvature(current, mesh.faces, rings, analysis.curvature);
     report.seconds_curvature += seconds(t);
     if (!report_progress(it, 0.1, "Curvature")) return report.cancelled = true, report;
-    t = clock::now();
-    computeSaliency(current, rings, analysis.curvature.k2, saliency_scale, analysis.saliency);
-    report.seconds_saliency += seconds(t);
-    if (!report_progress(it, 0.3, "Saliency")) return report.cancelled = true, report;
+    // Saliency steers only the paper's alpha rule and the uniform-curvature weights; the other
+    // modes skip it inside the iterations (it is the costliest stage) and describe the result once.
+    if (needs_saliency) {
+      t = clock::now();
+      computeSaliency(current, rings, analysis.curvature.k2, saliency_scale, analysis.saliency);
+      report.seconds_saliency += seconds(t);
+      if (!report_progress(it, 0.3, "Saliency")) return report.cancelled = true, report;
+    }
 
     t = clock::now();
     double max_saliency = 0;
