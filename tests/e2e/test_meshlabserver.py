@@ -76,19 +76,3 @@ def test_smoothing_fandisk_lowers_theta(tmp_path, shared):
     assert smoothed["ev_1e3"] < noisy["ev_1e3"]
     assert abs(smoothed["volume_ratio"] - 1.0) < 0.01
 
-
-def test_gui_loads_the_plugin(tmp_path):
-    """The real MeshLab GUI (private copy) starts under Xvfb and loads our plugin without errors."""
-    gui = PRIVATE_MESHLAB / "meshlab"
-    if not gui.exists():
-        pytest.fail("no private copy of the meshlab GUI in the build folder")
-    import subprocess
-    from conftest import meshlab_env
-    env = meshlab_env()
-    env["HOME"] = str(tmp_path)  # a fresh settings folder
-    cmd = ["xvfb-run", "-a", "timeout", "-s", "TERM", "12", str(gui)]
-    run = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=120)
-    text = run.stdout + run.stderr
-    assert "filter_saliency_bezier_smooth" not in text.lower() or "error" not in text.lower(), text
-    # timeout's exit status 124: the GUI was still running (no crash) when it was stopped.
-    assert run.returncode == 124, text
