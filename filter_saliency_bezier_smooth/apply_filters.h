@@ -118,11 +118,13 @@ FilterOutcome applyComputeSaliency(MeshType &m, const ParameterValues &p, vcg::C
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  long salient = 0, boundary = 0;
+  long salient = 0, boundary = 0, nonmanifold = 0, isolated = 0;
   double mean_abs_h = 0;
   for (size_t i = 0; i < arrays.points.size(); ++i) {
     salient += analysis.saliency[i] > 0.5;
     boundary += rings.boundary[i];
+    nonmanifold += rings.nonmanifold[i];
+    isolated += rings.isolated[i];
     mean_abs_h += std::abs(c.mean[i]) / arrays.points.size();
   }
   out.log.push_back(detail::format(
@@ -131,6 +133,10 @@ FilterOutcome applyComputeSaliency(MeshType &m, const ParameterValues &p, vcg::C
   out.log.push_back(detail::format("Vertices with saliency > 0.5: %.0f; mean |H| = %g; "
                                    "boundary vertices (curvature from neighbours): %.0f.",
                                    double(salient), mean_abs_h, double(boundary)));
+  if (nonmanifold + isolated > 0)
+    out.log.push_back(detail::format("Curvature and saliency undefined, set to 0: %.0f "
+                                     "non-manifold, %.0f isolated (in no face) vertices.",
+                                     double(nonmanifold), double(isolated)));
   out.ok = true;
   return out;
 }
@@ -146,9 +152,9 @@ inline vcg_ext::SmoothParams smoothParamsOf(const ParameterValues &p) {
   s.alpha = p.at("alpha");
   s.uniform_variant = p.at("uniform_curvature") == 0 ? vcg_ext::UniformCurvatureVariant::Paper
                                                      : vcg_ext::UniformCurvatureVariant::Neighbour;
-  const vcg_ext::BoundaryMode boundaries[] = {vcg_ext::BoundaryMode::Paper,
-                                              vcg_ext::BoundaryMode::Fixed,
-                                              vcg_ext::BoundaryMode::AlongBoundary};
+  const vcg_ext::BoundaryMode boundaries[] = {
+      vcg_ext::BoundaryMode::Paper, vcg_ext::BoundaryMode::Fixed,
+      vcg_ext::BoundaryMode::AlongBoundary, vcg_ext::BoundaryMode::NoInward};
   s.boundary = boundaries[int(p.at("boundary"))];
   s.folds = p.at("fold_handling") == 0 ? vcg_ext::FoldHandling::Ignore
                                        : vcg_ext::FoldHandling::Paper;
@@ -156,6 +162,7 @@ inline vcg_ext::SmoothParams smoothParamsOf(const ParameterValues &p) {
   s.newton_step_limit = p.at("newton_step_limit");
   s.saliency_scale = p.at("saliency_scale") / 100.0;
   s.selected_only = p.at("selected_only") != 0;
+  s.preserve_volume = p.at("preserve_volume") != 0;
   return s;
 }
 
@@ -170,7 +177,7 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
                             detail::checkRange(p, "placement", 0, 2),
                             detail::checkRange(p, "alpha", 0, 1),
                             detail::checkRange(p, "uniform_curvature", 0, 1),
-                            detail::checkRange(p, "boundary", 0, 2),
+                            detail::checkRange(p, "boundary", 0, 3),
                             detail::checkRange(p, "fold_handling", 0, 1),
                             detail::checkRange(p, "newton_iterations", 0, 100),
                             detail::checkRange(p, "newton_step_limit", 0, 1000),
@@ -206,15 +213,22 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
     vcg::tri::UpdateNormal<MeshType>::PerVertexNormalizedPerFaceNormalized(m);
   vcg::tri::UpdateBounding<MeshType>::Box(m);
 
-  out.log.push_back(detail::format("%.0f iterations: %.0f of %.0f vertices moved, %.0f frozen "
-                                   "(non-manifold, isolated or on degenerate faces).",
+  out.log.push_back(detail::format("%.0f iterations: %.0f of %.0f vertices moved.",
                                    r.iterations_done, double(r.vertices_moved),
-                                   double(arrays.points.size()), double(r.frozen_vertices)));
-  out.log.push_back(detail::format("Fold fallbacks %.0f, fold skips %.0f, failed fits %.0f, "
-                                   "Newton failures %.0f.",
+                                   double(arrays.points.size())));
+  if (r.frozen_vertices > 0)
+    out.log.push_back(detail::format("Skipped (left in place): %.0f non-manifold, %.0f isolated "
+                                     "(in no face), %.0f on degenerate faces.",
+                                     double(r.nonmanifold_vertices), double(r.isolated_vertices),
+                                     double(r.degenerate_vertices)));
+  out.log.push_back(detail::format("Fold fallbacks %.0f, fold skips %.0f, Newton failures %.0f.",
                                    double(r.fold_fallbacks), double(r.fold_skips),
-                                   double(r.fit_failures), double(r.newton_failures)));
-  if (r.closed)
+                                   double(r.newton_failures)));
+  if (r.fit_failures + r.rejected_moves > 0)
+    out.log.push_back(detail::format("Kept in place (over all iterations): %.0f failed fits, "
+                                     "%.0f non-finite results.",
+                                     double(r.fit_failures), double(r.rejected_moves)));
+  if (r.closed && r.volume_before != 0)
     out.log.push_back(detail::format("Volume %g -> %g (ratio %.4f).", r.volume_before,
                                      r.volume_after, r.volume_after / r.volume_before));
   out.log.push_back(detail::format("Time: topology %.3f s, curvature %.3f s, saliency %.3f s, "

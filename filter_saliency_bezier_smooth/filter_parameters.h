@@ -100,10 +100,15 @@ inline const std::vector<ParamSpec> &parameterSpecs(FilterId id) {
        "Paper (Newton) placement only: the paper's formula (the vertex's own curvatures in the "
        "neighbours' directions) or Euler's formula with the neighbours' curvatures.",
        {"Paper", "Neighbour"}},
-      {ParamKind::Enum, "boundary", 2, "Boundary vertices",
-       "Treat boundary vertices like the others (paper), keep them fixed, or let them move only "
-       "along the boundary.",
-       {"Paper", "Fixed", "Along boundary"}},
+      {ParamKind::Enum, "boundary", 3, "Boundary vertices",
+       "Treat boundary vertices like the others (paper: the boundary shrinks), keep them fixed, "
+       "let them move only along the boundary, or along the boundary and the surface normal but "
+       "never inward (smooths the boundary without pulling it in). Boundary corners (turning more "
+       "than 45 degrees) stay in place except in the paper mode.",
+       {"Paper", "Fixed", "Along boundary", "Along boundary and normal"}},
+      {ParamKind::Bool, "preserve_volume", 1, "Preserve volume",
+       "Closed meshes: after each iteration, offset the moved vertices along their normals so that "
+       "the enclosed volume stays that of the input."},
       {ParamKind::Enum, "fold_handling", 0, "Folded neighbourhoods",
        "Fit anyway (least squares needs no one-to-one projection), or the paper's fallbacks: "
        "refit with the vertex's own normal, then with its 1-ring, else keep the vertex.",

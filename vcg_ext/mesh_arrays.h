@@ -39,14 +39,16 @@ MeshArrays extractArrays(const MeshType &mesh) {
     a.points.emplace_back(double(v.cP()[0]), double(v.cP()[1]), double(v.cP()[2]));
     a.selected.push_back(v.IsS() ? 1 : 0);
   }
+  if (mesh.vert.empty()) return a;
   a.faces.reserve(mesh.fn);
+  // Faces on a deleted, missing or foreign vertex are skipped, as if deleted.
   for (const auto &f : mesh.face) {
     if (f.IsD()) continue;
     Face idx;
     bool ok = true;
     for (int k = 0; k < 3; ++k) {
       const auto *vp = f.cV(k);
-      const size_t slot = size_t(vp - &mesh.vert[0]);
+      const size_t slot = vp ? size_t(vp - &mesh.vert[0]) : a.compact_index.size();
       idx[k] = slot < a.compact_index.size() ? a.compact_index[slot] : -1;
       ok = ok && idx[k] >= 0;
     }

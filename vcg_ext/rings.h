@@ -22,6 +22,7 @@ struct Rings {
   std::vector<std::uint8_t> boundary;    // on an edge used by exactly one face
   std::vector<std::uint8_t> nonmanifold; // on an edge of > 2 faces, or its faces form > 1 fan
   std::vector<std::uint8_t> isolated;    // referenced by no face
+  long boundary_edges = 0, nonmanifold_edges = 0; // both zero: the surface encloses a volume
 
   int ring1Size(int v) const { return ring1_offsets[v + 1] - ring1_offsets[v]; }
   int ring2Size(int v) const { return ring2_offsets[v + 1] - ring2_offsets[v]; }
@@ -75,8 +76,8 @@ inline Rings computeRings(int vertex_count, const std::vector<Face> &faces) {
     size_t j = i;
     while (j < edges.size() && edges[j] == edges[i]) ++j;
     const int count = int(j - i), a = edges[i].first, b = edges[i].second;
-    if (count == 1) r.boundary[a] = r.boundary[b] = 1;
-    if (count > 2) r.nonmanifold[a] = r.nonmanifold[b] = 1;
+    if (count == 1) r.boundary[a] = r.boundary[b] = 1, ++r.boundary_edges;
+    if (count > 2) r.nonmanifold[a] = r.nonmanifold[b] = 1, ++r.nonmanifold_edges;
     adjacency.emplace_back(a, b);
     adjacency.emplace_back(b, a);
     i = j;

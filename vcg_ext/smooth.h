@@ -25,7 +25,12 @@ enum class PlacementMode {
   PatchPoint,     // the vertex's own patch point B(u_i, v_i)
   RingBarycentre, // the patch point at the parameter of the 1-ring barycentre
 };
-enum class BoundaryMode { Paper, Fixed, AlongBoundary };
+enum class BoundaryMode {
+  Paper,         // as interior vertices
+  Fixed,         // never moved
+  AlongBoundary, // only along the boundary curve's tangent
+  NoInward,      // along the tangent and the surface normal, never toward the interior
+};
 enum class FoldHandling {
   Ignore, // fit anyway: least squares does not need a one-to-one projection
   Paper,  // retry with the vertex's own normal, then with the 1-ring; else keep the vertex
@@ -37,12 +42,15 @@ struct SmoothParams {
   UniformCurvatureVariant uniform_variant = UniformCurvatureVariant::Neighbour;
   bool alpha_override = true; // false: the paper's alpha = Sal_min / Sal_max
   double alpha = 1.0;
-  BoundaryMode boundary = BoundaryMode::AlongBoundary;
+  BoundaryMode boundary = BoundaryMode::NoInward;
   FoldHandling folds = FoldHandling::Ignore;
   int newton_iterations = 2;
   double newton_step_limit = 1.0; // safeguard, in mean edge lengths; 0 = off (as printed)
   double saliency_scale = 0.003;  // the paper's epsilon, as a fraction of the bbox diagonal
   bool selected_only = false;
+  // Closed meshes: after each iteration, offset the moved vertices along their normals by the one
+  // distance that restores the input's volume (Desbrun et al. 1999 rescale instead).
+  bool preserve_volume = true;
 };
 
 struct SmoothReport {
@@ -50,6 +58,7 @@ struct SmoothReport {
   bool cancelled = false;
   long vertices_moved = 0;   // vertices whose final position differs from the input
   long frozen_vertices = 0;  // non-manifold, isolated or on a degenerate face: never moved
+  long nonmanifold_vertices = 0, isolated_vertices = 0, degenerate_vertices = 0; // its parts
   long fold_fallbacks = 0;   // (over all iterations) neighbourhoods refitted after a fold
   long fold_skips = 0;       // vertices kept because every fallback folded
   long fit_failures = 0;     // degenerate neighbourhoods or failed fits: vertex kept
@@ -68,12 +77,19 @@ struct VertexQuantities {
 // Called between stages and between blocks of vertices with a percentage; returning false cancels.
 using ProgressFn = std::function<bool(int percent, const char *stage)>;
 
+constexpr double kMaxCoordinate = 1e30;
+
 // Why a mesh cannot be smoothed (empty string: it can).
 inline std::string validateForSmoothing(const MeshArrays &mesh) {
   if (mesh.points.empty()) return "the mesh has no vertices";
   if (mesh.faces.empty()) return "the mesh has no faces (a point cloud): the filter needs triangles";
   for (const Vec3 &p : mesh.points)
     if (!p.allFinite()) return "the mesh has NaN or infinite vertex coordinates; remove them first";
+  // The fits square lengths and take products of squares: beyond this they would overflow.
+  for (const Vec3 &p : mesh.points)
+    if (p.cwiseAbs().maxCoeff() > kMaxCoordinate)
+      return "the mesh has vertex coordinates beyond 1e30, where the computations in double would "
+             "overflow; scale the mesh down first";
   return {};
 }
 
@@ -126,6 +142,40 @@ inline Vec3 neighbourhoodNormal(int i, const Rings &rings, const std::vector<Vec
   return len > 1e-12 ? Vec3(sum / len) : normals[i];
 }
 
+// Applies the boundary mode to a boundary vertex's proposed position.
+inline Vec3 constrainBoundaryMove(int i, const Vec3 &moved, const std::vector<Vec3> &current,
+                                  const std::vector<Vec3> &normals, const VertexRoles &roles,
+                                  BoundaryMode mode) {
+  if (mode == BoundaryMode::Paper) return moved;
+  const auto &bn = roles.boundary_neighbours[i];
+  if (mode == BoundaryMode::Fixed || bn[0] < 0 || bn[1] < 0) return current[i];
+  const Vec3 in = current[i] - current[bn[0]], out = current[bn[1]] - current[i];
+  // A boundary corner (turning more than 45 degrees) is a feature: it stays.
+  if (in.dot(out) < std::cos(M_PI / 4) * in.norm() * out.norm()) return current[i];
+  const Vec3 tangent = (current[bn[1]] - current[bn[0]]).normalized();
+  const Vec3 step = moved - current[i];
+  Vec3 result;
+  if (mode == BoundaryMode::AlongBoundary) {
+    result = current[i] + tangent * tangent.dot(step);
+  } else {
+    const Vec3 inward = normals[i].cross(tangent).normalized();
+    result = moved - inward * inward.dot(step);
+  }
+  return result.allFinite() ? result : current[i];
+}
+
+// The distance d such that moving every vertex flagged in `moved` by d along its normal changes the
+// enclosed volume by `missing` (to first order: each vertex sweeps a third of its faces' area).
+inline double volumeRestoringOffset(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                    const std::vector<std::uint8_t> &moved, double missing) {
+  double swept = 0;
+  for (const Face &f : faces) {
+    const double third = (points[f[1]] - points[f[0]]).cross(points[f[2]] - points[f[0]]).norm() / 6;
+    for (int k = 0; k < 3; ++k) swept += moved[f[k]] ? third : 0.0;
+  }
+  return swept > 0 ? missing / swept : 0.0;
+}
+
 } // namespace detail
 
 // One vertex's new position from the current positions `p` (stages 4-7). Returns p[i] unchanged
@@ -176,8 +226,10 @@ inline Vec3 placeVertex(int i, const MeshArrays &mesh, const Rings &rings,
 
   BezierPatch patch;
   const int count = int(scratch.vertices.size());
+  // A rank-deficient fit (too few points, e.g. a mesh corner's 2-ring or the paper's 1-ring
+  // fallback) interpolates its points but extrapolates arbitrarily between them: keep the vertex.
   if (fitBezierPatch(scratch.u.data(), scratch.v.data(), scratch.local.data(), nullptr, count,
-                     alpha, patch) == FitStatus::Failed) {
+                     alpha, patch) != FitStatus::Ok) {
     ++counters.fit_failures;
     return p[i];
   }
@@ -242,10 +294,12 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
   report.seconds_topology = seconds(t0);
   report.mean_edge_length = stats.mean_edge_length;
   report.bbox_diagonal = stats.bbox_diagonal;
-  report.closed = true;
+  report.closed = rings.boundary_edges == 0 && rings.nonmanifold_edges == 0;
   for (int v = 0; v < n; ++v) {
     report.frozen_vertices += roles.frozen[v];
-    if (rings.boundary[v] || rings.nonmanifold[v]) report.closed = false;
+    if (rings.nonmanifold[v]) ++report.nonmanifold_vertices;
+    else if (rings.isolated[v]) ++report.isolated_vertices;
+    else if (roles.frozen[v]) ++report.degenerate_vertices;
   }
   report.volume_before = signedVolume(mesh.points, mesh.faces);
 
@@ -258,6 +312,8 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
 
   std::vector<Vec3> current = mesh.points, next = mesh.points;
   std::vector<double> alpha(n, 1.0);
+  std::vector<Vec3> normals_scratch;
+  std::vector<std::uint8_t> movable_scratch(n, 0);
   SurfaceAnalysis analysis;
   const double saliency_scale = params.saliency_scale * stats.bbox_diagonal;
   const int iterations = std::max(0, params.iterations);
@@ -302,20 +358,9 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
           if (!movable(i)) continue;
           Vec3 moved = placeVertex(i, mesh, rings, current, analysis, params,
                                    stats.mean_edge_length, max_saliency, scratch, alpha[i], local);
-          if (rings.boundary[i] && params.boundary == BoundaryMode::AlongBoundary) {
-            const auto &bn = roles.boundary_neighbours[i];
-            const Vec3 in = bn[0] >= 0 ? Vec3(current[i] - current[bn[0]]) : Vec3::Zero();
-            const Vec3 out = bn[1] >= 0 ? Vec3(current[bn[1]] - current[i]) : Vec3::Zero();
-            // A boundary corner (turning more than 45 degrees) is a feature: it stays.
-            const bool corner = in.dot(out) < std::cos(M_PI / 4) * in.norm() * out.norm();
-            if (bn[0] >= 0 && bn[1] >= 0 && !corner) {
-              const Vec3 tangent = (current[bn[1]] - current[bn[0]]).normalized();
-              moved = current[i] + tangent * tangent.dot(moved - current[i]);
-            } else {
-              moved = current[i];
-            }
-            if (!moved.allFinite()) moved = current[i];
-          }
+          if (rings.boundary[i])
+            moved = detail::constrainBoundaryMove(i, moved, current, analysis.curvature.normal,
+                                                  roles, params.boundary);
           next[i] = moved;
         }
         fold_fallbacks += local.fold_fallbacks;
@@ -338,6 +383,15 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
     report.fit_failures += counters.fit_failures;
     report.newton_failures += counters.newton_failures;
     report.rejected_moves += counters.rejected;
+    if (params.preserve_volume && report.closed) {
+      computeVertexNormals(next, mesh.faces, rings, normals_scratch);
+      for (int i = 0; i < n; ++i) movable_scratch[i] = movable(i);
+      const double offset = detail::volumeRestoringOffset(
+          next, mesh.faces, movable_scratch,
+          report.volume_before - signedVolume(next, mesh.faces));
+      for (int i = 0; i < n; ++i)
+        if (movable_scratch[i]) next[i] += offset * normals_scratch[i];
+    }
     current.swap(next);
     report.iterations_done = it + 1;
   }
