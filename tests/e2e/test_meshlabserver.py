@@ -76,3 +76,11 @@ def test_smoothing_fandisk_lowers_theta(tmp_path, shared):
     assert smoothed["ev_1e3"] < noisy["ev_1e3"]
     assert abs(smoothed["volume_ratio"] - 1.0) < 0.01
 
+
+
+def test_example_scripts_list_every_parameter_at_its_default(tmp_path):
+    """examples/*.mlx are tools/write_mlx's output: every parameter, at the current defaults."""
+    for kind, name in (("smooth", "saliency_bezier_smooth.mlx"),
+                       ("saliency", "compute_saliency_curvature.mlx")):
+        generated = write_mlx(tmp_path, kind).read_text()
+        assert (REPO / "examples" / name).read_text() == generated, name
