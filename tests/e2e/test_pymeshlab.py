@@ -12,6 +12,7 @@ segfaults. It happens with MeshLab's own filters too. `apply_expecting_error` th
 successful filter right after every expected failure, which resets the pointer.
 """
 import os
+import re
 import subprocess
 import sys
 import xml.etree.ElementTree as ElementTree
@@ -92,7 +93,7 @@ def test_smoothing_fandisk_with_defaults(pymeshlab, tmp_path, shared):
     noisy = mesh_compare(case / "noisy.ply", case / "clean.ply")
     smoothed = mesh_compare(out, case / "clean.ply")
     assert noisy["theta_deg"] == pytest.approx(28.42, abs=0.05)
-    assert smoothed["theta_deg"] < 14.0  # measured 10.59, as meshlabserver
+    assert smoothed["theta_deg"] < 14.0  # measured 10.6, as meshlabserver
     assert smoothed["ev_1e3"] < noisy["ev_1e3"]
     assert abs(smoothed["volume_ratio"] - 1.0) < 0.01
 
@@ -120,7 +121,8 @@ def test_parameter_names_and_defaults_match_the_2020_script(pymeshlab, shared):
     noisy = shared / "data" / "benchmark" / "Fandisk0.3" / "noisy.ply"
     params = mlx_parameters(REPO / "examples" / "saliency_bezier_smooth.mlx")
     assert list(params) == ["iterations", "placement", "alpha_override", "alpha",
-                            "uniform_curvature", "boundary", "fold_handling", "newton_iterations",
+                            "uniform_curvature", "boundary", "preserve_volume", "fold_handling",
+                            "newton_iterations",
                             "newton_step_limit", "saliency_scale", "selected_only", "quality"]
     defaults = load(pymeshlab, noisy)
     defaults.apply_filter(SMOOTH)
@@ -290,5 +292,7 @@ def test_example_script_runs(shared):
     run = subprocess.run([sys.executable, str(REPO / "examples" / "pymeshlab_smooth.py")],
                          env=env, capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stdout + run.stderr
-    assert "noisy 28.42 deg -> smoothed 10.59 deg" in run.stdout, run.stdout
+    found = re.search(r"noisy 28\.42 deg -> smoothed ([0-9.]+) deg", run.stdout)
+    assert found, run.stdout
+    assert float(found.group(1)) < 12.0, run.stdout
     assert "max 1.0000" in run.stdout, run.stdout
