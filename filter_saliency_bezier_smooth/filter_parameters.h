@@ -47,17 +47,17 @@ inline std::string pythonFilterName(FilterId id) {
 inline std::string filterDescription(FilterId id) {
   if (id == FilterId::ComputeSaliencyCurvature)
     return "Computes per-vertex principal curvatures with the discrete operators of "
-           "<i>Meyer, Desbrun, Schr&ouml;der, Barr, Discrete Differential-Geometry Operators for "
-           "Triangulated 2-Manifolds (2003)</i> and mesh saliency with <i>Lee, Varshney, Jacobs, "
-           "Mesh Saliency (SIGGRAPH 2005)</i> on the minimum principal curvature, as used by "
-           "<i>A new feature-preserving mesh-smoothing algorithm (The Visual Computer, 2009)</i>."
+           "Meyer, Desbrun, Schr&ouml;der, Barr, \"Discrete Differential-Geometry Operators for "
+           "Triangulated 2-Manifolds\" (2003) and mesh saliency with Lee, Varshney, Jacobs, "
+           "\"Mesh Saliency\" (SIGGRAPH 2005) on the minimum principal curvature, as used by "
+           "\"A new feature-preserving mesh-smoothing algorithm\" (The Visual Computer, 2009)."
            "<br>The chosen quantity goes to vertex quality (saliency is rescaled to [0,1]); all of "
            "them are stored as per-vertex attributes <b>Saliency</b>, <b>MeanCurvature</b>, "
            "<b>GaussianCurvature</b>, <b>K1</b>, <b>K2</b>, and the principal directions in the "
            "per-vertex curvature directions. Boundary vertices take the mean of their interior "
            "neighbours' curvatures. The mesh's positions are not changed.";
-  return "Feature-preserving smoothing after <i>A new feature-preserving mesh-smoothing algorithm "
-         "(The Visual Computer, 2009)</i>: per vertex, principal curvatures (Meyer et al. 2003) and "
+  return "Smoothing after \"A new feature-preserving mesh-smoothing algorithm\" "
+         "(The Visual Computer, 2009): per vertex, principal curvatures (Meyer et al. 2003) and "
          "mesh saliency (Lee et al. 2005), a weighted bi-quadratic B&eacute;zier patch "
          "least-squares fitted to the vertex's 2-ring, and a new position on that patch."
          "<br><b>Placement</b>: <i>Ring barycentre</i> (default) moves the vertex to the patch "
@@ -116,8 +116,8 @@ inline const std::vector<ParamSpec> &parameterSpecs(FilterId id) {
       {ParamKind::Int, "newton_iterations", 2, "Newton iterations",
        "Paper (Newton) placement only: Newton steps on (u,v) (the paper uses 2)."},
       {ParamKind::Float, "newton_step_limit", 1.0, "Newton step limit (edge lengths)",
-       "Paper (Newton) placement only: a step moving the vertex further than this many mean edge "
-       "lengths is halved until it does not; 0 turns the safeguard off (as printed)."},
+       "Paper (Newton) only: a Newton step moving the vertex further than this many mean "
+       "edge lengths is halved; 0: no limit (as printed)."},
       saliency_scale,
       {ParamKind::Bool, "selected_only", 0, "Affect only selected vertices",
        "Only selected vertices move; the others still serve as neighbours."},
