@@ -176,6 +176,17 @@ inline double volumeRestoringOffset(const std::vector<Vec3> &points, const std::
   return swept > 0 ? missing / swept : 0.0;
 }
 
+// Whether a patch point (local coordinates) lies within the neighbourhood's bounding box grown by
+// the box's largest extent. A nearly singular fit (e.g. 9 points that almost interpolate the 9
+// control points) can pass the solver's rank test and still put the patch far from its data:
+// measured on a noisy unit 9x9 grid, boundary vertices thrown 4.6 units off the plane.
+inline bool nearNeighbourhood(const Vec3 &point, const std::vector<Vec3> &local) {
+  Vec3 lo = Vec3::Constant(INFINITY), hi = -lo;
+  for (const Vec3 &q : local) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+  const double reach = (hi - lo).maxCoeff();
+  return (point.array() >= lo.array() - reach).all() && (point.array() <= hi.array() + reach).all();
+}
+
 } // namespace detail
 
 // One vertex's new position from the current positions `p` (stages 4-7). Returns p[i] unchanged
@@ -269,9 +280,14 @@ inline Vec3 placeVertex(int i, const MeshArrays &mesh, const Rings &rings,
     break;
   }
   }
-  const Vec3 moved = frame.toWorld(patch.eval(u, v));
+  const Vec3 on_patch = patch.eval(u, v);
+  const Vec3 moved = frame.toWorld(on_patch);
   if (!moved.allFinite()) {
     ++counters.rejected;
+    return p[i];
+  }
+  if (!detail::nearNeighbourhood(on_patch, scratch.local)) {
+    ++counters.fit_failures;
     return p[i];
   }
   return moved;
