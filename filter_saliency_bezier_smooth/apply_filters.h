@@ -184,13 +184,14 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
                             detail::checkRange(p, "saliency_scale", 1e-6, 50),
                             detail::checkRange(p, "quality", 0, 6)})
     if (out.error.empty()) out.error = check;
-  const vcg_ext::SmoothParams params = smoothParamsOf(p);
-  if (out.error.empty() && params.selected_only) {
+  if (!out.error.empty()) return out;
+  const vcg_ext::SmoothParams params = smoothParamsOf(p); // indexes by the checked enums
+  if (params.selected_only) {
     bool any = false;
     for (auto s : arrays.selected) any = any || s;
-    if (!any) out.error = "'Affect only selected vertices' is on but no vertex is selected.";
+    if (!any)
+      return out.error = "'Affect only selected vertices' is on but no vertex is selected.", out;
   }
-  if (!out.error.empty()) return out;
 
   std::vector<vcg_ext::Vec3> result;
   vcg_ext::VertexQuantities q;
