@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <typeindex>
 
 namespace saliency_bezier {
 
@@ -37,6 +38,13 @@ void storeAttribute(MeshType &m, const vcg_ext::MeshArrays &arrays, const std::s
                     const std::vector<double> &values) {
   using Scalar = typename MeshType::ScalarType;
   using Allocator = vcg::tri::Allocator<MeshType>;
+  // vcglib's lookup compares only the size: an int attribute of this name (another filter's) would
+  // come back as a float handle and be written through the wrong type (found by the fuzzer).
+  for (const auto &attribute : m.vert_attr)
+    if (attribute._name == name && attribute._type != std::type_index(typeid(Scalar))) {
+      Allocator::DeletePerVertexAttribute(m, name);
+      break;
+    }
   auto handle = Allocator::template FindPerVertexAttribute<Scalar>(m, name);
   if (!Allocator::template IsValidHandle<Scalar>(m, handle)) {
     Allocator::DeletePerVertexAttribute(m, name);
