@@ -11,7 +11,9 @@
 #include <vcg_ext/smooth.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <typeindex>
 
 namespace saliency_bezier {
@@ -31,11 +33,21 @@ inline std::string format(const char *fmt, double a = 0, double b = 0, double c 
   return buffer;
 }
 
+// `value` in the mesh's scalar type: NaN as 0 and anything beyond the type's range as its largest
+// value, counted in `clamped` (found by the fuzzer: a float mesh 3e-30 across has K = 1e59).
+template <class Scalar>
+Scalar storable(double value, long &clamped) {
+  const double limit = double(std::numeric_limits<Scalar>::max());
+  if (std::isnan(value)) return ++clamped, Scalar(0);
+  if (std::abs(value) > limit) return ++clamped, Scalar(std::copysign(limit, value));
+  return Scalar(value);
+}
+
 // Stores `values` (compact order) as the per-vertex attribute `name` of the mesh's scalar type,
 // replacing an attribute of that name but another type.
 template <class MeshType>
 void storeAttribute(MeshType &m, const vcg_ext::MeshArrays &arrays, const std::string &name,
-                    const std::vector<double> &values) {
+                    const std::vector<double> &values, long &clamped) {
   using Scalar = typename MeshType::ScalarType;
   using Allocator = vcg::tri::Allocator<MeshType>;
   // vcglib's lookup compares only the size: an int attribute of this name (another filter's) would
@@ -50,7 +62,8 @@ void storeAttribute(MeshType &m, const vcg_ext::MeshArrays &arrays, const std::s
     Allocator::DeletePerVertexAttribute(m, name);
     handle = Allocator::template AddPerVertexAttribute<Scalar>(m, name);
   }
-  for (size_t c = 0; c < values.size(); ++c) handle[arrays.mesh_slot[c]] = Scalar(values[c]);
+  for (size_t c = 0; c < values.size(); ++c)
+    handle[arrays.mesh_slot[c]] = storable<Scalar>(values[c], clamped);
 }
 
 template <class MeshType>
@@ -58,7 +71,9 @@ void storeQuality(MeshType &m, const vcg_ext::MeshArrays &arrays,
                   const std::vector<double> &values) {
   if (!vcg::tri::HasPerVertexQuality(m)) return;
   using Scalar = typename MeshType::VertexType::QualityType;
-  for (size_t c = 0; c < values.size(); ++c) m.vert[arrays.mesh_slot[c]].Q() = Scalar(values[c]);
+  long clamped = 0; // counted with the attributes
+  for (size_t c = 0; c < values.size(); ++c)
+    m.vert[arrays.mesh_slot[c]].Q() = storable<Scalar>(values[c], clamped);
 }
 
 // The rejection reasons shared by both filters; empty when the mesh can be processed.
@@ -108,11 +123,12 @@ FilterOutcome applyComputeSaliency(MeshType &m, const ParameterValues &p, vcg::C
   const vcg_ext::CurvatureField &c = analysis.curvature;
   const std::vector<double> *quantities[] = {&analysis.saliency, &c.mean, &c.gauss, &c.k1, &c.k2};
   detail::storeQuality(m, arrays, *quantities[int(p.at("quality"))]);
-  detail::storeAttribute(m, arrays, "Saliency", analysis.saliency);
-  detail::storeAttribute(m, arrays, "MeanCurvature", c.mean);
-  detail::storeAttribute(m, arrays, "GaussianCurvature", c.gauss);
-  detail::storeAttribute(m, arrays, "K1", c.k1);
-  detail::storeAttribute(m, arrays, "K2", c.k2);
+  long clamped = 0;
+  detail::storeAttribute(m, arrays, "Saliency", analysis.saliency, clamped);
+  detail::storeAttribute(m, arrays, "MeanCurvature", c.mean, clamped);
+  detail::storeAttribute(m, arrays, "GaussianCurvature", c.gauss, clamped);
+  detail::storeAttribute(m, arrays, "K1", c.k1, clamped);
+  detail::storeAttribute(m, arrays, "K2", c.k2, clamped);
   if (vcg::tri::HasPerVertexCurvatureDir(m)) {
     using Dir = typename MeshType::VertexType::CurVecType;
     using DirScalar = typename Dir::ScalarType;
@@ -120,8 +136,9 @@ FilterOutcome applyComputeSaliency(MeshType &m, const ParameterValues &p, vcg::C
       auto &v = m.vert[arrays.mesh_slot[i]];
       v.PD1() = Dir(DirScalar(c.dir1[i].x()), DirScalar(c.dir1[i].y()), DirScalar(c.dir1[i].z()));
       v.PD2() = Dir(DirScalar(c.dir2[i].x()), DirScalar(c.dir2[i].y()), DirScalar(c.dir2[i].z()));
-      v.K1() = DirScalar(c.k1[i]);
-      v.K2() = DirScalar(c.k2[i]);
+      long counted_with_the_attributes = 0;
+      v.K1() = detail::storable<DirScalar>(c.k1[i], counted_with_the_attributes);
+      v.K2() = detail::storable<DirScalar>(c.k2[i], counted_with_the_attributes);
     }
   }
   const double seconds =
@@ -145,6 +162,11 @@ FilterOutcome applyComputeSaliency(MeshType &m, const ParameterValues &p, vcg::C
     out.log.push_back(detail::format("Curvature and saliency undefined, set to 0: %.0f "
                                      "non-manifold, %.0f isolated (in no face) vertices.",
                                      double(nonmanifold), double(isolated)));
+  if (clamped > 0)
+    out.log.push_back(detail::format("%.0f per-vertex values were NaN or beyond the mesh's number "
+                                     "range (a tiny mesh or tiny faces): stored as 0 or the largest "
+                                     "representable value.",
+                                     double(clamped)));
   out.ok = true;
   return out;
 }
@@ -211,13 +233,14 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
   const std::vector<double> *quantities[] = {&q.saliency, &q.mean, &q.gauss, &q.k1,
                                              &q.k2,       &q.alpha, &q.displacement};
   detail::storeQuality(m, arrays, *quantities[int(p.at("quality"))]);
-  detail::storeAttribute(m, arrays, "Saliency", q.saliency);
-  detail::storeAttribute(m, arrays, "MeanCurvature", q.mean);
-  detail::storeAttribute(m, arrays, "GaussianCurvature", q.gauss);
-  detail::storeAttribute(m, arrays, "K1", q.k1);
-  detail::storeAttribute(m, arrays, "K2", q.k2);
-  detail::storeAttribute(m, arrays, "Alpha", q.alpha);
-  detail::storeAttribute(m, arrays, "Displacement", q.displacement);
+  long clamped = 0;
+  detail::storeAttribute(m, arrays, "Saliency", q.saliency, clamped);
+  detail::storeAttribute(m, arrays, "MeanCurvature", q.mean, clamped);
+  detail::storeAttribute(m, arrays, "GaussianCurvature", q.gauss, clamped);
+  detail::storeAttribute(m, arrays, "K1", q.k1, clamped);
+  detail::storeAttribute(m, arrays, "K2", q.k2, clamped);
+  detail::storeAttribute(m, arrays, "Alpha", q.alpha, clamped);
+  detail::storeAttribute(m, arrays, "Displacement", q.displacement, clamped);
   if (vcg::tri::HasPerVertexNormal(m) && vcg::tri::HasPerFaceNormal(m))
     vcg::tri::UpdateNormal<MeshType>::PerVertexNormalizedPerFaceNormalized(m);
   vcg::tri::UpdateBounding<MeshType>::Box(m);
@@ -244,6 +267,11 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
                                    "patch fit + placement %.3f s.",
                                    r.seconds_topology, r.seconds_curvature, r.seconds_saliency,
                                    r.seconds_fit));
+  if (clamped > 0)
+    out.log.push_back(detail::format("%.0f per-vertex values were NaN or beyond the mesh's number "
+                                     "range (a tiny mesh or tiny faces): stored as 0 or the largest "
+                                     "representable value.",
+                                     double(clamped)));
   out.ok = true;
   return out;
 }

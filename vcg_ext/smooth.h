@@ -77,7 +77,10 @@ struct VertexQuantities {
 // Called between stages and between blocks of vertices with a percentage; returning false cancels.
 using ProgressFn = std::function<bool(int percent, const char *stage)>;
 
-constexpr double kMaxCoordinate = 1e30;
+// The scales the computations in double can carry: normals and fits take products of up to four
+// lengths (squared norms of cross products), which overflow beyond ~1e77 and vanish below ~1e-77;
+// the limits keep a wide margin.
+constexpr double kMaxCoordinate = 1e30, kMinExtent = 1e-30;
 
 // Why a mesh cannot be smoothed (empty string: it can).
 inline std::string validateForSmoothing(const MeshArrays &mesh) {
@@ -85,11 +88,16 @@ inline std::string validateForSmoothing(const MeshArrays &mesh) {
   if (mesh.faces.empty()) return "the mesh has no faces (a point cloud): the filter needs triangles";
   for (const Vec3 &p : mesh.points)
     if (!p.allFinite()) return "the mesh has NaN or infinite vertex coordinates; remove them first";
-  // The fits square lengths and take products of squares: beyond this they would overflow.
-  for (const Vec3 &p : mesh.points)
+  Vec3 lo = mesh.points[0], hi = lo;
+  for (const Vec3 &p : mesh.points) {
     if (p.cwiseAbs().maxCoeff() > kMaxCoordinate)
       return "the mesh has vertex coordinates beyond 1e30, where the computations in double would "
              "overflow; scale the mesh down first";
+    lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  }
+  if (!((hi - lo).norm() >= kMinExtent))
+    return "the mesh is smaller than 1e-30 across (or all its vertices coincide), where the "
+           "computations in double would underflow; scale the mesh up first";
   return {};
 }
 
@@ -341,9 +349,15 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
     return progress(std::min(percent, 99), stage);
   };
 
+  // Principal curvatures and directions steer only the paper's placement and, through the saliency,
+  // its alpha rule; the other modes need the vertex normals alone inside the iterations.
+  const bool needs_curvature = needs_saliency || params.placement == PlacementMode::Paper;
   for (int it = 0; it < iterations; ++it) {
     auto t = clock::now();
-    computeCurvature(current, mesh.faces, rings, analysis.curvature);
+    if (needs_curvature)
+      computeCurvature(current, mesh.faces, rings, analysis.curvature);
+    else
+      computeVertexNormals(current, mesh.faces, rings, analysis.curvature.normal);
     report.seconds_curvature += seconds(t);
     if (!report_progress(it, 0.1, "Curvature")) return report.cancelled = true, report;
     // Saliency steers only the paper's alpha rule and the uniform-curvature weights; the other
