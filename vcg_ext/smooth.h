@@ -419,8 +419,12 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
       const double offset = detail::volumeRestoringOffset(
           next, mesh.faces, movable_scratch,
           report.volume_before - signedVolume(next, mesh.faces));
-      for (int i = 0; i < n; ++i)
-        if (movable_scratch[i]) next[i] += offset * normals_scratch[i];
+      // Smoothing loses a sliver of volume per iteration; needing more than an edge length means
+      // the surface (nearly) collapsed and the first-order offset is meaningless (found by the
+      // fuzzer: a flattened octahedron got an offset of 1e15 edge lengths).
+      if (std::abs(offset) <= stats.mean_edge_length)
+        for (int i = 0; i < n; ++i)
+          if (movable_scratch[i]) next[i] += offset * normals_scratch[i];
     }
     current.swap(next);
     report.iterations_done = it + 1;
