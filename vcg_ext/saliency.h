@@ -16,6 +16,7 @@
 #pragma once
 
 #include "rings.h"
+#include "saliency_lattice.h"
 
 #include <algorithm>
 #include <cmath>
@@ -113,14 +114,19 @@ inline double squaredGap(double x, double lo, double hi) {
   return g * g;
 }
 
-// Gaussian-weighted means of the map around p at all eight σ in one sweep.
-inline void gaussianMeansAllSigmas(const UniformPointGrid &grid, const Vec3 &p, double epsilon,
-                                   double means[kSaliencySigmaCount]) {
+// For each σ index s, the index of 2σ_s in kSaliencySigmas (−1: not one of them). exp(−t/(2k)²)⁴ =
+// exp(−t/k²): a σ whose double is also summed costs no exp of its own.
+constexpr int kSaliencyDoubleSigma[kSaliencySigmaCount] = {2, 4, 5, 6, 7, -1, -1, -1};
+
+// Gaussian-weighted means of the map around p at the `count` smallest σ (kSaliencySigmas[0 ..
+// count)) in one sweep over the grid.
+inline void gaussianMeansSmallestSigmas(const UniformPointGrid &grid, const Vec3 &p, double epsilon,
+                                        int count, double *means) {
   double numerator[kSaliencySigmaCount] = {}, denominator[kSaliencySigmaCount] = {};
   double cutoff2[kSaliencySigmaCount]; // (2σ)²
-  for (int s = 0; s < kSaliencySigmaCount; ++s)
+  for (int s = 0; s < count; ++s)
     cutoff2[s] = 4.0 * kSaliencySigmas[s] * kSaliencySigmas[s] * epsilon * epsilon;
-  const double radius = 2 * kSaliencySigmas[kSaliencySigmaCount - 1] * epsilon;
+  const double radius = 2 * kSaliencySigmas[count - 1] * epsilon;
   const double radius2 = radius * radius, inv_two_eps2 = 1.0 / (2 * epsilon * epsilon);
 
   const int z0 = grid.clampedCell(p.z() - radius, grid.origin.z(), grid.nz);
@@ -146,44 +152,90 @@ inline void gaussianMeansAllSigmas(const UniformPointGrid &grid, const Vec3 &p, 
         const double dx = q->x - p.x(), dy = q->y - p.y(), dz = q->z - p.z();
         const double d2 = dx * dx + dy * dy + dz * dz;
         if (d2 >= radius2) continue;
-        // Cut-offs grow with σ, so walk from the largest σ down. exp(−t/k²) for k = 6, 5, 4, 3, 2
-        // are exact fourth powers of the k = 12, 10, 8, 6, 4 weights: three exp calls at most.
+        // Cut-offs grow with σ: walk from the largest σ down and stop at the first that excludes q.
         const double t = d2 * inv_two_eps2, c = q->value;
-        const double w12 = std::exp(-t / 144);
-        numerator[7] += w12 * c, denominator[7] += w12;
-        if (d2 >= cutoff2[6]) continue;
-        const double w10 = std::exp(-t / 100);
-        numerator[6] += w10 * c, denominator[6] += w10;
-        if (d2 >= cutoff2[5]) continue;
-        const double w8 = std::exp(-t / 64);
-        numerator[5] += w8 * c, denominator[5] += w8;
-        if (d2 >= cutoff2[4]) continue;
-        const double w6 = (w12 * w12) * (w12 * w12);
-        numerator[4] += w6 * c, denominator[4] += w6;
-        if (d2 >= cutoff2[3]) continue;
-        const double w5 = (w10 * w10) * (w10 * w10);
-        numerator[3] += w5 * c, denominator[3] += w5;
-        if (d2 >= cutoff2[2]) continue;
-        const double w4 = (w8 * w8) * (w8 * w8);
-        numerator[2] += w4 * c, denominator[2] += w4;
-        if (d2 >= cutoff2[1]) continue;
-        const double w3 = (w6 * w6) * (w6 * w6);
-        numerator[1] += w3 * c, denominator[1] += w3;
-        if (d2 >= cutoff2[0]) continue;
-        const double w2 = (w4 * w4) * (w4 * w4);
-        numerator[0] += w2 * c, denominator[0] += w2;
+        double w[kSaliencySigmaCount];
+        for (int s = count - 1; s >= 0 && d2 < cutoff2[s]; --s) {
+          const int twice = kSaliencyDoubleSigma[s];
+          if (twice >= 0 && twice < count) {
+            const double w2 = w[twice] * w[twice];
+            w[s] = w2 * w2;
+          } else {
+            w[s] = std::exp(-t / (kSaliencySigmas[s] * kSaliencySigmas[s]));
+          }
+          numerator[s] += w[s] * c, denominator[s] += w[s];
+        }
       }
     }
   }
   // The vertex itself is always inside every cut-off, so no denominator is zero.
-  for (int s = 0; s < kSaliencySigmaCount; ++s)
+  for (int s = 0; s < count; ++s)
     means[s] = denominator[s] > 0 ? numerator[s] / denominator[s] : 0.0;
 }
 
-// computeSaliency with the grid's cell edge as a fraction of the largest cut-off radius (24ε).
-inline void computeSaliencyWithCells(const std::vector<Vec3> &points, const Rings &rings,
-                                     const std::vector<double> &curvature_map, double epsilon,
-                                     std::vector<double> &saliency, int cells_per_radius) {
+// Gaussian-weighted means of the map around p at all eight σ in one sweep.
+inline void gaussianMeansAllSigmas(const UniformPointGrid &grid, const Vec3 &p, double epsilon,
+                                   double means[kSaliencySigmaCount]) {
+  gaussianMeansSmallestSigmas(grid, p, epsilon, kSaliencySigmaCount, means);
+}
+
+// Non-linear suppression of one scale's S (paper 2.2 after Lee et al.): divided by its maximum and
+// multiplied by (1 − mean of its other 1-ring local maxima)², then added to `saliency`. A scale with
+// one dominant peak keeps its weight, a scale with many comparable peaks is damped. Sums run over
+// fixed blocks in vertex order (thread-count independent).
+inline void addSuppressedScale(const Rings &rings, const std::vector<int> &active,
+                               std::vector<double> &s, double half_spread,
+                               std::vector<double> &saliency) {
+  const int n = rings.vertex_count;
+  const double maximum = *std::max_element(s.begin(), s.end());
+  if (!(maximum > 1e-12 * half_spread)) return; // rounding only: this scale sees nothing
+#pragma omp parallel for schedule(static)
+  for (int v = 0; v < n; ++v) s[v] /= maximum;
+  // Near-ties count as maxima on both sides (so the result does not hinge on rounding); a plateau
+  // at zero is not a peak.
+  const double tie = 1e-12;
+  const int block = 4096, blocks = (int(active.size()) + block - 1) / block;
+  std::vector<double> block_sum(blocks, 0.0);
+  std::vector<int> block_count(blocks, 0);
+#pragma omp parallel for schedule(static)
+  for (int b = 0; b < blocks; ++b) {
+    const int stop = std::min(int(active.size()), (b + 1) * block);
+    for (int a = b * block; a < stop; ++a) {
+      const int v = active[a];
+      if (!(s[v] > tie)) continue;
+      bool is_peak = true;
+      for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v) && is_peak; ++w)
+        is_peak = s[v] >= s[*w] - tie;
+      if (is_peak) block_sum[b] += s[v], ++block_count[b];
+    }
+  }
+  double peak_sum = 0;
+  long peak_count = 0;
+  for (int b = 0; b < blocks; ++b) peak_sum += block_sum[b], peak_count += block_count[b];
+  // The global maximum (1 after normalising) is always one of the peaks: leave it out.
+  const double other_peaks_mean = peak_count > 1 ? (peak_sum - 1.0) / double(peak_count - 1) : 0.0;
+  const double weight = (1.0 - other_peaks_mean) * (1.0 - other_peaks_mean);
+#pragma omp parallel for schedule(static)
+  for (int v = 0; v < n; ++v) saliency[v] += weight * s[v];
+}
+
+} // namespace detail
+
+// How computeSaliency evaluates the Gaussian means.
+struct SaliencyOptions {
+  // A σ whose 2σ ball is expected to hold more vertices than this (estimated from the mean edge
+  // length) takes its means from the lattice (saliency_lattice.h); the smaller σ are summed exactly
+  // in one grid sweep. INFINITY: all exact (the reference).
+  double lattice_above_vertices = 100;
+  int cells_per_radius = 2; // exact sweep: grid cell edge = its largest cut-off radius / this
+  detail::LatticeOptions lattice;
+};
+
+namespace detail {
+
+inline void computeSaliencyImpl(const std::vector<Vec3> &points, const Rings &rings,
+                                const std::vector<double> &curvature_map, double epsilon,
+                                std::vector<double> &saliency, const SaliencyOptions &options) {
   const int n = rings.vertex_count;
   saliency.assign(n, 0.0);
   if (n == 0 || !(epsilon > 0) || !std::isfinite(epsilon)) return;
@@ -207,60 +259,91 @@ inline void computeSaliencyWithCells(const std::vector<Vec3> &points, const Ring
   std::vector<double> centred(n, 0.0);
   for (int v : active) centred[v] = curvature_map[v] - middle;
 
-  UniformPointGrid grid;
-  const double radius = 2 * kSaliencySigmas[kSaliencySigmaCount - 1] * epsilon;
-  grid.build(points, centred, active, radius / std::max(cells_per_radius, 1));
-
-  std::vector<double> scale_saliency(size_t(kSaliencyScales) * n, 0.0); // [scale * n + v]
-  // Queries in grid order, so consecutive queries share their neighbours in cache. With the
-  // Morton order this took a shuffled 160k-vertex sphere from 9.5 s to 6.0 s (one core).
-#pragma omp parallel for schedule(dynamic, 256)
-  for (int a = 0; a < int(active.size()); ++a) {
-    const int v = grid.sorted_vertex[a];
-    double means[kSaliencySigmaCount];
-    gaussianMeansAllSigmas(grid, points[v], epsilon, means);
-    for (int i = 0; i < kSaliencyScales; ++i)
-      scale_saliency[size_t(i) * n + v] = std::abs(means[kScaleFine[i]] - means[kScaleCoarse[i]]);
+  // How many σ are summed exactly: those whose 2σ ball holds few vertices. A vertex of a regular
+  // triangulation owns (√3/2)·edge² of surface.
+  int exact_count = kSaliencySigmaCount;
+  if (std::isfinite(options.lattice_above_vertices)) {
+    double edge_sum = 0;
+    long edge_count = 0;
+    for (int v : active)
+      for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w)
+        if (*w > v) edge_sum += (points[*w] - points[v]).norm(), ++edge_count;
+    const double edge = edge_count ? edge_sum / edge_count : 0.0;
+    const double area_per_vertex = 0.5 * std::sqrt(3.0) * edge * edge;
+    exact_count = 0;
+    while (exact_count < kSaliencySigmaCount) {
+      const double radius = 2 * kSaliencySigmas[exact_count] * epsilon;
+      if (!(M_PI * radius * radius <= options.lattice_above_vertices * area_per_vertex)) break;
+      ++exact_count;
+    }
   }
 
-  // Non-linear suppression: a scale with one dominant peak keeps its weight, a scale with many
-  // comparable peaks is damped. Sums run serially in vertex order (thread-count independent).
-  for (int i = 0; i < kSaliencyScales; ++i) {
-    double *s = scale_saliency.data() + size_t(i) * n;
-    const double maximum = *std::max_element(s, s + n);
-    if (!(maximum > 1e-12 * half_spread)) continue; // rounding only: this scale sees nothing
-    for (int v = 0; v < n; ++v) s[v] /= maximum;
-    // Near-ties count as maxima on both sides (so the result does not hinge on rounding); a
-    // plateau at zero is not a peak.
-    const double tie = 1e-12;
-    double peak_sum = 0;
-    int peak_count = 0;
-    for (int v : active) {
-      if (!(s[v] > tie)) continue;
-      bool is_peak = true;
-      for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v) && is_peak; ++w)
-        is_peak = s[v] >= s[*w] - tie;
-      if (is_peak) peak_sum += s[v], ++peak_count;
+  // means[s][v]: G at σ_s.
+  std::vector<std::vector<double>> means(kSaliencySigmaCount);
+  if (exact_count > 0) {
+    UniformPointGrid grid;
+    const double radius = 2 * kSaliencySigmas[exact_count - 1] * epsilon;
+    grid.build(points, centred, active, radius / std::max(options.cells_per_radius, 1));
+    for (int s = 0; s < exact_count; ++s) means[s].assign(n, 0.0);
+    // Queries in grid order, so consecutive queries share their neighbours in cache.
+#pragma omp parallel for schedule(dynamic, 256)
+    for (int a = 0; a < int(active.size()); ++a) {
+      const int v = grid.sorted_vertex[a];
+      double m[kSaliencySigmaCount];
+      gaussianMeansSmallestSigmas(grid, points[v], epsilon, exact_count, m);
+      for (int s = 0; s < exact_count; ++s) means[s][v] = m[s];
     }
-    // The global maximum (1 after normalising) is always one of the peaks: leave it out.
-    const double other_peaks_mean = peak_count > 1 ? (peak_sum - 1.0) / (peak_count - 1) : 0.0;
-    const double weight = (1.0 - other_peaks_mean) * (1.0 - other_peaks_mean);
-    for (int v = 0; v < n; ++v) saliency[v] += weight * s[v];
+  }
+
+  if (exact_count < kSaliencySigmaCount) {
+    std::vector<double> sigmas;
+    for (int s = exact_count; s < kSaliencySigmaCount; ++s)
+      sigmas.push_back(kSaliencySigmas[s] * epsilon);
+    std::vector<std::vector<double>> lattice_means(sigmas.size());
+    latticeGaussianMeans(points, active, centred, sigmas, options.lattice, lattice_means);
+    for (int s = exact_count; s < kSaliencySigmaCount; ++s)
+      means[s].swap(lattice_means[s - exact_count]);
+  }
+
+  std::vector<double> scale_saliency(n, 0.0);
+  for (int i = 0; i < kSaliencyScales; ++i) {
+    const std::vector<double> &fine = means[kScaleFine[i]], &coarse = means[kScaleCoarse[i]];
+#pragma omp parallel for schedule(static)
+    for (int a = 0; a < int(active.size()); ++a) {
+      const int v = active[a];
+      scale_saliency[v] = std::abs(fine[v] - coarse[v]);
+    }
+    addSuppressedScale(rings, active, scale_saliency, half_spread, saliency);
+    std::vector<double>().swap(means[kScaleFine[i]]); // not needed again
   }
   const double maximum = *std::max_element(saliency.begin(), saliency.end());
   if (maximum > 0)
     for (double &x : saliency) x /= maximum;
 }
 
+// computeSaliency, all σ exact, with the grid's cell edge as a fraction of the largest cut-off
+// radius (24ε).
+inline void computeSaliencyWithCells(const std::vector<Vec3> &points, const Rings &rings,
+                                     const std::vector<double> &curvature_map, double epsilon,
+                                     std::vector<double> &saliency, int cells_per_radius) {
+  SaliencyOptions options;
+  options.lattice_above_vertices = INFINITY;
+  options.cells_per_radius = cells_per_radius;
+  computeSaliencyImpl(points, rings, curvature_map, epsilon, saliency, options);
+}
+
+
 } // namespace detail
 
 // Lee et al. 2005 multi-scale saliency (as modified by the paper) of `curvature_map` (the driver
-// passes k2); σ_i = {2, 3, 4, 5, 6}·ε with ε an absolute length; output in [0, 1]. Grid cells are
-// 12ε, half the largest cut-off 2·(2σ_5) = 24ε; 24ε, 8ε and 6ε cells measured within 7% of it.
+// passes k2); σ_i = {2, 3, 4, 5, 6}·ε with ε an absolute length; output in [0, 1]. The σ whose 2σ
+// ball holds few vertices are summed exactly on a grid of cells 2σ/2 (cells of a quarter, the
+// whole or a third of that radius measured within 7%); the others on the lattice (see
+// SaliencyOptions and bench/PERFORMANCE.md for its error).
 inline void computeSaliency(const std::vector<Vec3> &points, const Rings &rings,
                             const std::vector<double> &curvature_map, double epsilon,
-                            std::vector<double> &saliency) {
-  detail::computeSaliencyWithCells(points, rings, curvature_map, epsilon, saliency, 2);
+                            std::vector<double> &saliency, const SaliencyOptions &options = {}) {
+  detail::computeSaliencyImpl(points, rings, curvature_map, epsilon, saliency, options);
 }
 
 } // namespace vcg_ext

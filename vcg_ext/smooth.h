@@ -51,6 +51,10 @@ struct SmoothParams {
   // Closed meshes: after each iteration, offset the moved vertices along their normals by the one
   // distance that restores the input's volume (Desbrun et al. 1999 rescale instead).
   bool preserve_volume = true;
+  // How the saliency's Gaussian means are evaluated: exact sums where the 2σ balls hold few
+  // vertices, a lattice approximation where they hold many (saliency.h); lattice_above_vertices =
+  // INFINITY gives the exact reference.
+  SaliencyOptions saliency;
 };
 
 struct SmoothReport {
@@ -364,7 +368,8 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
     // modes skip it inside the iterations (it is the costliest stage) and describe the result once.
     if (needs_saliency) {
       t = clock::now();
-      computeSaliency(current, rings, analysis.curvature.k2, saliency_scale, analysis.saliency);
+      computeSaliency(current, rings, analysis.curvature.k2, saliency_scale, analysis.saliency,
+                      params.saliency);
       report.seconds_saliency += seconds(t);
       if (!report_progress(it, 0.3, "Saliency")) return report.cancelled = true, report;
     }
@@ -435,7 +440,8 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
   computeCurvature(current, mesh.faces, rings, analysis.curvature);
   report.seconds_curvature += seconds(t);
   t = clock::now();
-  computeSaliency(current, rings, analysis.curvature.k2, saliency_scale, analysis.saliency);
+  computeSaliency(current, rings, analysis.curvature.k2, saliency_scale, analysis.saliency,
+                  params.saliency);
   report.seconds_saliency += seconds(t);
 
   quantities.saliency = analysis.saliency;
