@@ -17,7 +17,7 @@
 
 #include "mesh_arrays.h"
 
-#include <Eigen/Cholesky>
+#include <algorithm>
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 #include <array>
@@ -191,9 +191,38 @@ enum class FitStatus {
 // Relative pivot / eigenvalue thresholds of the fit. The normal matrix depends only on (u,v), w and α
 // (not on the points' scale), so relative thresholds are geometry-independent.
 struct FitThresholds {
-  static constexpr double ldlt_pivot_ratio = 1e-10; // below: do not trust LDLT, use the eigen solve
+  static constexpr double ldlt_pivot_ratio = 1e-10; // below: do not trust LDLᵀ, use the eigen solve
   static constexpr double pseudo_inverse = 1e-11;   // eigenvalues below this × the largest are dropped
 };
+
+namespace detail {
+
+// In-place LDLᵀ of a symmetric positive definite 9×9 matrix (lower triangle read, L below the
+// diagonal, D on it), without pivoting: the normal matrix is positive semi-definite, so a pivot that
+// is not positive, or tiny against the largest, means rank deficiency and the caller falls back to
+// the rank-revealing solve. False in that case.
+inline bool ldlt9(double M[9][9], double pivot_ratio) {
+  double largest = 0;
+  for (int k = 0; k < 9; ++k) largest = std::max(largest, M[k][k]);
+  if (!(largest > 0) || !std::isfinite(largest)) return false;
+  double smallest = INFINITY, biggest = 0;
+  for (int k = 0; k < 9; ++k) {
+    double d = M[k][k];
+    for (int j = 0; j < k; ++j) d -= M[k][j] * M[k][j] * M[j][j];
+    // Pivots of a semi-definite matrix are ≥ 0 in exact arithmetic; here rounding only.
+    if (!(d > 1e-14 * largest) || !std::isfinite(d)) return false;
+    M[k][k] = d;
+    smallest = std::min(smallest, d), biggest = std::max(biggest, d);
+    for (int i = k + 1; i < 9; ++i) {
+      double x = M[i][k];
+      for (int j = 0; j < k; ++j) x -= M[i][j] * M[k][j] * M[j][j];
+      M[i][k] = x / d;
+    }
+  }
+  return smallest > pivot_ratio * biggest;
+}
+
+} // namespace detail
 
 // Weighted least-squares fit of the patch:
 //   minimise α² Σ_k w_k |A_k x − q_k|² + (1−α)² |S x|²   (w = nullptr: all w_k = 1),
@@ -215,29 +244,72 @@ inline FitStatus fitBezierPatch(const double *u, const double *v, const Vec3 *po
   }
   centre /= double(n);
 
-  Mat9 M = Mat9::Zero();
-  Rhs R = Rhs::Zero();
+  // AᵀA has 45 distinct entries but only 36 distinct values: entry ((i,j),(k,l)) is
+  // Σ B_i(u)B_k(u) · B_j(v)B_l(v), a product of one of 6 u-pairs and one of 6 v-pairs.
+  constexpr int kPair[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
+  double products[6][6] = {};
+  double rhs[9][3] = {};
   const double a2 = alpha * alpha;
   for (int k = 0; k < n; ++k) {
-    const BezierCoefficients a = bernsteinProducts(u[k], v[k]);
     const double wk = a2 * (w ? w[k] : 1.0);
-    M.noalias() += (wk * a) * a.transpose();
-    R.noalias() += (wk * a) * (points[k] - centre).transpose();
+    const double su = 1.0 - u[k], sv = 1.0 - v[k];
+    const double bu[3] = {su * su, 2.0 * u[k] * su, u[k] * u[k]};
+    const double bv[3] = {sv * sv, 2.0 * v[k] * sv, v[k] * v[k]};
+    const double pu[6] = {wk * bu[0] * bu[0], wk * bu[0] * bu[1], wk * bu[0] * bu[2],
+                          wk * bu[1] * bu[1], wk * bu[1] * bu[2], wk * bu[2] * bu[2]};
+    const double pv[6] = {bv[0] * bv[0], bv[0] * bv[1], bv[0] * bv[2],
+                          bv[1] * bv[1], bv[1] * bv[2], bv[2] * bv[2]};
+    for (int a = 0; a < 6; ++a)
+      for (int b = 0; b < 6; ++b) products[a][b] += pu[a] * pv[b];
+    const Vec3 d = points[k] - centre;
+    for (int i = 0; i < 3; ++i) {
+      const double wu = wk * bu[i];
+      for (int j = 0; j < 3; ++j) {
+        const double c = wu * bv[j];
+        rhs[3 * i + j][0] += c * d.x();
+        rhs[3 * i + j][1] += c * d.y();
+        rhs[3 * i + j][2] += c * d.z();
+      }
+    }
   }
+  double M[9][9];
+  for (int r = 0; r < 9; ++r)
+    for (int c = 0; c <= r; ++c) M[r][c] = M[c][r] = products[kPair[r / 3][c / 3]][kPair[r % 3][c % 3]];
   const double s2 = (1.0 - alpha) * (1.0 - alpha);
-  if (s2 > 0.0) M.noalias() += s2 * parallelogramMatrix().transpose() * parallelogramMatrix();
+  if (s2 > 0.0) {
+    static const Mat9 StS = parallelogramMatrix().transpose() * parallelogramMatrix();
+    for (int r = 0; r < 9; ++r)
+      for (int c = 0; c < 9; ++c) M[r][c] += s2 * StS(r, c);
+  }
 
   Rhs X;
   FitStatus status = FitStatus::Ok;
-  Eigen::LDLT<Mat9> ldlt(M);
-  const auto D = ldlt.vectorD();
-  const double dmax = D.maxCoeff();
-  if (ldlt.info() == Eigen::Success && dmax > 0.0 &&
-      D.minCoeff() > FitThresholds::ldlt_pivot_ratio * dmax) {
-    X = ldlt.solve(R);
+  double L[9][9];
+  std::copy(&M[0][0], &M[0][0] + 81, &L[0][0]);
+  if (detail::ldlt9(L, FitThresholds::ldlt_pivot_ratio)) {
+    for (int c = 0; c < 3; ++c) {
+      double y[9];
+      for (int i = 0; i < 9; ++i) {
+        double x = rhs[i][c];
+        for (int j = 0; j < i; ++j) x -= L[i][j] * y[j];
+        y[i] = x;
+      }
+      for (int i = 0; i < 9; ++i) y[i] /= L[i][i];
+      for (int i = 8; i >= 0; --i) {
+        double x = y[i];
+        for (int j = i + 1; j < 9; ++j) x -= L[j][i] * X(j, c);
+        X(i, c) = x;
+      }
+    }
   } else {
     // Rank-revealing fallback: pseudo-inverse from the symmetric eigen-decomposition.
-    Eigen::SelfAdjointEigenSolver<Mat9> eig(M);
+    Mat9 A;
+    Rhs R;
+    for (int r = 0; r < 9; ++r) {
+      for (int c = 0; c < 9; ++c) A(r, c) = M[r][c];
+      for (int c = 0; c < 3; ++c) R(r, c) = rhs[r][c];
+    }
+    Eigen::SelfAdjointEigenSolver<Mat9> eig(A);
     if (eig.info() != Eigen::Success) return FitStatus::Failed;
     const auto &lambda = eig.eigenvalues(); // ascending
     const double lmax = lambda[8];
