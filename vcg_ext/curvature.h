@@ -79,6 +79,31 @@ inline void tensorDirections(double a, double b, double c, const Vec3 &t1, const
   dir2 = normal.cross(dir1);
 }
 
+// The least-squares tensor (a, b, d) from its 3×3 normal equations. Well conditioned (the usual
+// fan of ≥ 3 edge directions): LDLᵀ. Otherwise rank-revealing: a fan with fewer than three edge
+// directions yields the minimum-norm tensor (SVD with relative threshold 1e-10). The LDLᵀ path is
+// taken only where all singular values are far above that threshold, so both give the same tensor.
+inline Eigen::Vector3d solveTensorFit(const Eigen::Matrix3d &M, const Eigen::Vector3d &rhs) {
+  const double d0 = M(0, 0);
+  if (d0 > 0) {
+    const double l10 = M(1, 0) / d0, l20 = M(2, 0) / d0;
+    const double d1 = M(1, 1) - l10 * M(1, 0);
+    if (d1 > 0) {
+      const double l21 = (M(2, 1) - l20 * M(1, 0)) / d1;
+      const double d2 = M(2, 2) - l20 * M(2, 0) - l21 * l21 * d1;
+      const double largest = std::max({d0, d1, d2});
+      if (std::min(d1, d2) > 1e-6 * largest && std::isfinite(largest)) {
+        const double y0 = rhs[0], y1 = rhs[1] - l10 * y0, y2 = rhs[2] - l20 * y0 - l21 * y1;
+        const double z2 = y2 / d2, z1 = y1 / d1 - l21 * z2, z0 = y0 / d0 - l10 * z1 - l20 * z2;
+        return {z0, z1, z2};
+      }
+    }
+  }
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  svd.setThreshold(1e-10);
+  return svd.solve(rhs);
+}
+
 } // namespace detail
 
 // Meyer et al. 2003 H, K, k1, k2 plus a per-vertex curvature tensor fit for the directions.
@@ -122,34 +147,40 @@ inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<
       const Face &t = faces[*f];
       const int corner = t[0] == v ? 0 : t[1] == v ? 1 : 2;
       const Vec3 &q = points[t[(corner + 1) % 3]], &r = points[t[(corner + 2) % 3]];
-      if (detail::isDegenerateTriangle(p, q, r)) {
+      const Vec3 pq = q - p, pr = r - p, qr = r - q;
+      const double pq2 = pq.squaredNorm(), pr2 = pr.squaredNorm();
+      const double twice_area = pq.cross(pr).norm();
+      // As detail::isDegenerateTriangle, on the values needed below anyway.
+      const double longest2 = std::max({pq2, pr2, qr.squaredNorm()});
+      if (!(longest2 > 0) || !(twice_area > 1e-12 * longest2) || !std::isfinite(twice_area)) {
         has_degenerate_face = true;
         break;
       }
-      const Vec3 pq = q - p, pr = r - p, qr = r - q;
-      const double twice_area = pq.cross(pr).norm();
       const double dot_p = pq.dot(pr), dot_q = -pq.dot(qr), dot_r = pr.dot(qr);
       const double cot_q = dot_q / twice_area, cot_r = dot_r / twice_area;
       laplacian += cot_r * pq + cot_q * pr;
       angle_sum += std::atan2(twice_area, dot_p);
       // Meyer's mixed area: Voronoi region unless the triangle is obtuse.
       if (dot_p >= 0 && dot_q >= 0 && dot_r >= 0)
-        mixed_area += (pr.squaredNorm() * cot_q + pq.squaredNorm() * cot_r) / 8;
+        mixed_area += (pr2 * cot_q + pq2 * cot_r) / 8;
       else
         mixed_area += dot_p < 0 ? twice_area / 4 : twice_area / 8;
 
-      for (const Vec3 *edge : {&pq, &pr}) {
-        const double length2 = edge->squaredNorm();
-        const double along_normal = edge->dot(normal);
-        const Vec3 tangent = *edge - along_normal * normal;
-        const double tangent_length = tangent.norm();
-        if (!(tangent_length > 1e-12 * std::sqrt(length2))) continue;
-        const double c = tangent.dot(t1) / tangent_length, s = tangent.dot(t2) / tangent_length;
+      for (int e = 0; e < 2; ++e) {
+        const Vec3 &edge = e == 0 ? pq : pr;
+        const double length2 = e == 0 ? pq2 : pr2;
+        const double along_normal = edge.dot(normal);
+        // The edge's direction in the tangent plane is (c, s) = (x, y)/|(x, y)|; the row
+        // (c², 2cs, s²) needs no square root.
+        const double x = edge.dot(t1), y = edge.dot(t2), tangent2 = x * x + y * y;
+        if (!(tangent2 > 1e-24 * length2)) continue;
         // The neighbour lies below the tangent plane on a sphere: curvature positive.
         const double kappa = -2 * along_normal / length2;
-        const Eigen::Vector3d row(c * c, 2 * c * s, s * s);
-        normal_matrix += (0.5 * twice_area) * row * row.transpose();
-        rhs += (0.5 * twice_area) * kappa * row;
+        const Eigen::Vector3d row = Eigen::Vector3d(x * x, 2 * x * y, y * y) / tangent2;
+        const Eigen::Vector3d weighted = (0.5 * twice_area) * row;
+        for (int i = 0; i < 3; ++i)
+          for (int j = i; j < 3; ++j) normal_matrix(i, j) += weighted[i] * row[j];
+        rhs += kappa * weighted;
       }
     }
     if (has_degenerate_face || !(mixed_area > 0)) {
@@ -166,10 +197,10 @@ inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<
     out.gauss[v] = K;
     out.k1[v] = H + root;
     out.k2[v] = H - root;
-    // Rank-revealing: a fan with fewer than three edge directions yields the minimum-norm tensor.
-    Eigen::JacobiSVD<Eigen::Matrix3d> svd(normal_matrix, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    svd.setThreshold(1e-10);
-    const Eigen::Vector3d tensor = svd.solve(rhs);
+    normal_matrix(1, 0) = normal_matrix(0, 1); // (the loop filled the upper triangle)
+    normal_matrix(2, 0) = normal_matrix(0, 2);
+    normal_matrix(2, 1) = normal_matrix(1, 2);
+    const Eigen::Vector3d tensor = detail::solveTensorFit(normal_matrix, rhs);
     detail::tensorDirections(tensor[0], tensor[1], tensor[2], t1, t2, normal, out.dir1[v],
                              out.dir2[v]);
     interior_valid[v] = 1;
