@@ -35,115 +35,152 @@ struct Rings {
 };
 
 namespace detail {
-inline void buildCsr(int n, const std::vector<std::pair<int, int>> &pairs,
-                     std::vector<int> &offsets, std::vector<int> &values) {
+
+// Per-vertex lists built in parallel: vertices are cut into fixed blocks (independent of the thread
+// count), each block appends its vertices' lists to its own buffer via `fill(v, out)`, and the
+// buffers are joined in vertex order into a CSR.
+constexpr int kCsrBlock = 4096;
+
+template <class Fill>
+void buildCsrInBlocks(int n, std::vector<int> &offsets, std::vector<int> &values, Fill fill) {
+  const int block = kCsrBlock, blocks = (n + block - 1) / block;
+  std::vector<std::vector<int>> buffer(blocks);
   offsets.assign(n + 1, 0);
-  for (const auto &p : pairs) ++offsets[p.first + 1];
-  for (int i = 0; i < n; ++i) offsets[i + 1] += offsets[i];
-  values.resize(pairs.size());
-  std::vector<int> cursor(offsets.begin(), offsets.end() - 1);
-  for (const auto &p : pairs) values[cursor[p.first]++] = p.second;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int b = 0; b < blocks; ++b) {
+    std::vector<int> &out = buffer[b];
+    for (int v = b * block; v < std::min(n, (b + 1) * block); ++v) {
+      const size_t before = out.size();
+      fill(v, out);
+      offsets[v + 1] = int(out.size() - before);
+    }
+  }
+  for (int v = 0; v < n; ++v) offsets[v + 1] += offsets[v];
+  values.resize(offsets[n]);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int b = 0; b < blocks; ++b)
+    std::copy(buffer[b].begin(), buffer[b].end(), values.begin() + offsets[b * block]);
 }
+
 } // namespace detail
 
-// Builds the rings of a triangle mesh with `vertex_count` vertices.
+// Builds the rings of a triangle mesh with `vertex_count` vertices. Every list is gathered per
+// vertex from its own faces (no global sort of the edges), in parallel, in vertex order.
 inline Rings computeRings(int vertex_count, const std::vector<Face> &faces) {
   Rings r;
   r.vertex_count = vertex_count;
   const int n = vertex_count;
 
-  std::vector<std::pair<int, int>> vf;
-  vf.reserve(faces.size() * 3);
-  for (int f = 0; f < int(faces.size()); ++f)
-    for (int k = 0; k < 3; ++k) vf.emplace_back(faces[f][k], f);
-  detail::buildCsr(n, vf, r.face_offsets, r.faces);
-
-  // Directed half-edges sorted by (min,max) give each undirected edge's face count.
-  std::vector<std::pair<int, int>> edges;
-  edges.reserve(faces.size() * 3);
+  // Faces around each vertex, in face order (a face naming a vertex twice is listed twice).
+  r.face_offsets.assign(n + 1, 0);
   for (const Face &f : faces)
-    for (int k = 0; k < 3; ++k) {
-      const int a = f[k], b = f[(k + 1) % 3];
-      if (a != b) edges.emplace_back(std::min(a, b), std::max(a, b));
-    }
-  std::sort(edges.begin(), edges.end());
+    for (int k = 0; k < 3; ++k) ++r.face_offsets[f[k] + 1];
+  for (int v = 0; v < n; ++v) r.face_offsets[v + 1] += r.face_offsets[v];
+  r.faces.resize(r.face_offsets[n]);
+  {
+    std::vector<int> cursor(r.face_offsets.begin(), r.face_offsets.end() - 1);
+    for (int f = 0; f < int(faces.size()); ++f)
+      for (int k = 0; k < 3; ++k) r.faces[cursor[faces[f][k]]++] = f;
+  }
+
   r.boundary.assign(n, 0);
   r.nonmanifold.assign(n, 0);
   r.isolated.assign(n, 0);
-  std::vector<std::pair<int, int>> adjacency;
-  adjacency.reserve(edges.size() * 2);
-  for (size_t i = 0; i < edges.size();) {
-    size_t j = i;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    const int count = int(j - i), a = edges[i].first, b = edges[i].second;
-    if (count == 1) r.boundary[a] = r.boundary[b] = 1, ++r.boundary_edges;
-    if (count > 2) r.nonmanifold[a] = r.nonmanifold[b] = 1, ++r.nonmanifold_edges;
-    adjacency.emplace_back(a, b);
-    adjacency.emplace_back(b, a);
-    i = j;
-  }
-  std::sort(adjacency.begin(), adjacency.end());
-  detail::buildCsr(n, adjacency, r.ring1_offsets, r.ring1);
+  // 1-ring and each edge's face count: the half-edges (f[k], f[k+1]) of v's faces that touch v.
+  // An edge used by one face is a boundary edge, by more than two a non-manifold one; each edge is
+  // counted once overall, from its smaller end.
+  // Per block of buildCsrInBlocks (one thread each): edge counts without a shared counter.
+  const int blocks = n / detail::kCsrBlock + 1;
+  std::vector<long> block_boundary_edges(blocks, 0), block_nonmanifold_edges(blocks, 0);
+  detail::buildCsrInBlocks(n, r.ring1_offsets, r.ring1, [&](int v, std::vector<int> &out) {
+    thread_local std::vector<int> ends;
+    ends.clear();
+    for (const int *f = r.facesBegin(v); f != r.facesEnd(v); ++f) {
+      if (f != r.facesBegin(v) && *f == f[-1]) continue; // the same face again
+      const Face &t = faces[*f];
+      for (int k = 0; k < 3; ++k) {
+        const int a = t[k], b = t[(k + 1) % 3];
+        if (a == b) continue;
+        if (a == v) ends.push_back(b);
+        else if (b == v) ends.push_back(a);
+      }
+    }
+    std::sort(ends.begin(), ends.end());
+    for (size_t i = 0; i < ends.size();) {
+      size_t j = i;
+      while (j < ends.size() && ends[j] == ends[i]) ++j;
+      const int count = int(j - i), w = ends[i];
+      if (count == 1) r.boundary[v] = 1, block_boundary_edges[v / detail::kCsrBlock] += v < w;
+      if (count > 2) r.nonmanifold[v] = 1, block_nonmanifold_edges[v / detail::kCsrBlock] += v < w;
+      out.push_back(w);
+      i = j;
+    }
+  });
+  for (long c : block_boundary_edges) r.boundary_edges += c;
+  for (long c : block_nonmanifold_edges) r.nonmanifold_edges += c;
 
   // A manifold vertex's faces form one fan: its link (the edges opposite to it) is one path or one
   // cycle. Count the link's connected components by repeatedly absorbing faces that share a
   // neighbour with the growing fan; a second component is a "bow-tie".
-  std::vector<int> fan_faces, members;
-  for (int v = 0; v < n; ++v) {
-    const int nf = r.face_offsets[v + 1] - r.face_offsets[v];
-    if (nf == 0) {
-      r.isolated[v] = 1;
-      continue;
-    }
-    fan_faces.assign(r.facesBegin(v), r.facesEnd(v));
-    members.clear();
-    auto others = [&](int f, int k) {
-      const Face &t = faces[f];
-      return t[0] == v ? (k ? t[2] : t[1]) : t[1] == v ? (k ? t[0] : t[2]) : (k ? t[1] : t[0]);
-    };
-    members.push_back(others(fan_faces.back(), 0));
-    members.push_back(others(fan_faces.back(), 1));
-    fan_faces.pop_back();
-    for (bool grew = true; grew && !fan_faces.empty();) {
-      grew = false;
-      for (size_t k = 0; k < fan_faces.size();) {
-        const int a = others(fan_faces[k], 0), b = others(fan_faces[k], 1);
-        const bool touches = std::find(members.begin(), members.end(), a) != members.end() ||
-                             std::find(members.begin(), members.end(), b) != members.end();
-        if (touches) {
-          members.push_back(a);
-          members.push_back(b);
-          fan_faces[k] = fan_faces.back();
-          fan_faces.pop_back();
-          grew = true;
-        } else {
-          ++k;
+#pragma omp parallel
+  {
+    std::vector<int> fan_faces, members;
+#pragma omp for schedule(dynamic, 4096)
+    for (int v = 0; v < n; ++v) {
+      const int nf = r.face_offsets[v + 1] - r.face_offsets[v];
+      if (nf == 0) {
+        r.isolated[v] = 1;
+        continue;
+      }
+      fan_faces.assign(r.facesBegin(v), r.facesEnd(v));
+      members.clear();
+      auto others = [&](int f, int k) {
+        const Face &t = faces[f];
+        return t[0] == v ? (k ? t[2] : t[1]) : t[1] == v ? (k ? t[0] : t[2]) : (k ? t[1] : t[0]);
+      };
+      members.push_back(others(fan_faces.back(), 0));
+      members.push_back(others(fan_faces.back(), 1));
+      fan_faces.pop_back();
+      for (bool grew = true; grew && !fan_faces.empty();) {
+        grew = false;
+        for (size_t k = 0; k < fan_faces.size();) {
+          const int a = others(fan_faces[k], 0), b = others(fan_faces[k], 1);
+          const bool touches = std::find(members.begin(), members.end(), a) != members.end() ||
+                               std::find(members.begin(), members.end(), b) != members.end();
+          if (touches) {
+            members.push_back(a);
+            members.push_back(b);
+            fan_faces[k] = fan_faces.back();
+            fan_faces.pop_back();
+            grew = true;
+          } else {
+            ++k;
+          }
         }
       }
+      if (!fan_faces.empty()) r.nonmanifold[v] = 1;
     }
-    if (!fan_faces.empty()) r.nonmanifold[v] = 1;
   }
 
   // 2-ring: union of the neighbours' 1-rings, sorted, without v itself. A non-manifold neighbour is
   // included but not expanded: its 1-ring reaches into other sheets (a fin, a second fan), which
   // would bend the patch fitted to this one (measured: a fin of height 0.3 on a unit grid lifted
   // its neighbours by 0.07).
-  std::vector<int> scratch;
-  r.ring2_offsets.assign(n + 1, 0);
-  r.ring2.clear();
-  r.ring2.reserve(r.ring1.size() * 3);
-  for (int v = 0; v < n; ++v) {
-    scratch.clear();
+  // The 1-rings are sorted: merging them costs less than sorting their concatenation.
+  detail::buildCsrInBlocks(n, r.ring2_offsets, r.ring2, [&](int v, std::vector<int> &out) {
+    thread_local std::vector<int> ring, merged;
+    ring.assign(r.ring1Begin(v), r.ring1End(v));
     for (const int *a = r.ring1Begin(v); a != r.ring1End(v); ++a) {
-      scratch.push_back(*a);
-      if (!r.nonmanifold[*a]) scratch.insert(scratch.end(), r.ring1Begin(*a), r.ring1End(*a));
+      if (r.nonmanifold[*a]) continue;
+      merged.resize(ring.size() + r.ring1Size(*a));
+      merged.erase(std::set_union(ring.begin(), ring.end(), r.ring1Begin(*a), r.ring1End(*a),
+                                  merged.begin()),
+                   merged.end());
+      ring.swap(merged);
     }
-    std::sort(scratch.begin(), scratch.end());
-    scratch.erase(std::unique(scratch.begin(), scratch.end()), scratch.end());
-    for (int w : scratch)
-      if (w != v) r.ring2.push_back(w);
-    r.ring2_offsets[v + 1] = int(r.ring2.size());
-  }
+    for (int w : ring)
+      if (w != v) out.push_back(w);
+  });
   return r;
 }
 
