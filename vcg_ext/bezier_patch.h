@@ -207,15 +207,19 @@ inline bool ldlt9(double M[9][9], double pivot_ratio) {
   if (!(largest > 0) || !std::isfinite(largest)) return false;
   double smallest = INFINITY, biggest = 0;
   for (int k = 0; k < 9; ++k) {
+    double ld[9]; // L[k][j]·D[j]
     double d = M[k][k];
-    for (int j = 0; j < k; ++j) d -= M[k][j] * M[k][j] * M[j][j];
+    for (int j = 0; j < k; ++j) {
+      ld[j] = M[k][j] * M[j][j];
+      d -= M[k][j] * ld[j];
+    }
     // Pivots of a semi-definite matrix are ≥ 0 in exact arithmetic; here rounding only.
     if (!(d > 1e-14 * largest) || !std::isfinite(d)) return false;
     M[k][k] = d;
     smallest = std::min(smallest, d), biggest = std::max(biggest, d);
     for (int i = k + 1; i < 9; ++i) {
       double x = M[i][k];
-      for (int j = 0; j < k; ++j) x -= M[i][j] * M[k][j] * M[j][j];
+      for (int j = 0; j < k; ++j) x -= M[i][j] * ld[j];
       M[i][k] = x / d;
     }
   }
@@ -245,32 +249,45 @@ inline FitStatus fitBezierPatch(const double *u, const double *v, const Vec3 *po
   centre /= double(n);
 
   // AᵀA has 45 distinct entries but only 36 distinct values: entry ((i,j),(k,l)) is
-  // Σ B_i(u)B_k(u) · B_j(v)B_l(v), a product of one of 6 u-pairs and one of 6 v-pairs.
+  // Σ B_i(u)B_k(u) · B_j(v)B_l(v), a product of one of 6 u-pairs and one of 6 v-pairs. The sums run
+  // over chunks of 8 points as dot products of fixed length (unrolled and vectorised; the
+  // accumulators stay in registers), the last chunk padded with zero weights.
   constexpr int kPair[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
+  constexpr int kChunk = 8;
   double products[6][6] = {};
   double rhs[9][3] = {};
   const double a2 = alpha * alpha;
-  for (int k = 0; k < n; ++k) {
-    const double wk = a2 * (w ? w[k] : 1.0);
-    const double su = 1.0 - u[k], sv = 1.0 - v[k];
-    const double bu[3] = {su * su, 2.0 * u[k] * su, u[k] * u[k]};
-    const double bv[3] = {sv * sv, 2.0 * v[k] * sv, v[k] * v[k]};
-    const double pu[6] = {wk * bu[0] * bu[0], wk * bu[0] * bu[1], wk * bu[0] * bu[2],
-                          wk * bu[1] * bu[1], wk * bu[1] * bu[2], wk * bu[2] * bu[2]};
-    const double pv[6] = {bv[0] * bv[0], bv[0] * bv[1], bv[0] * bv[2],
-                          bv[1] * bv[1], bv[1] * bv[2], bv[2] * bv[2]};
-    for (int a = 0; a < 6; ++a)
-      for (int b = 0; b < 6; ++b) products[a][b] += pu[a] * pv[b];
-    const Vec3 d = points[k] - centre;
-    for (int i = 0; i < 3; ++i) {
-      const double wu = wk * bu[i];
-      for (int j = 0; j < 3; ++j) {
-        const double c = wu * bv[j];
-        rhs[3 * i + j][0] += c * d.x();
-        rhs[3 * i + j][1] += c * d.y();
-        rhs[3 * i + j][2] += c * d.z();
-      }
+  for (int first = 0; first < n; first += kChunk) {
+    alignas(16) double pu[6][kChunk], pv[6][kChunk], bb[9][kChunk], d[3][kChunk];
+    for (int c = 0; c < kChunk; ++c) {
+      const int k = first + c;
+      const bool real = k < n;
+      const double wk = real ? a2 * (w ? w[k] : 1.0) : 0.0;
+      const double uk = real ? u[k] : 0.0, vk = real ? v[k] : 0.0;
+      const double su = 1.0 - uk, sv = 1.0 - vk;
+      const double bu[3] = {su * su, 2.0 * uk * su, uk * uk};
+      const double bv[3] = {sv * sv, 2.0 * vk * sv, vk * vk};
+      pu[0][c] = wk * bu[0] * bu[0], pu[1][c] = wk * bu[0] * bu[1], pu[2][c] = wk * bu[0] * bu[2];
+      pu[3][c] = wk * bu[1] * bu[1], pu[4][c] = wk * bu[1] * bu[2], pu[5][c] = wk * bu[2] * bu[2];
+      pv[0][c] = bv[0] * bv[0], pv[1][c] = bv[0] * bv[1], pv[2][c] = bv[0] * bv[2];
+      pv[3][c] = bv[1] * bv[1], pv[4][c] = bv[1] * bv[2], pv[5][c] = bv[2] * bv[2];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) bb[3 * i + j][c] = wk * bu[i] * bv[j];
+      const Vec3 delta = real ? Vec3(points[k] - centre) : Vec3::Zero();
+      d[0][c] = delta.x(), d[1][c] = delta.y(), d[2][c] = delta.z();
     }
+    for (int a = 0; a < 6; ++a)
+      for (int b = 0; b < 6; ++b) {
+        double sum = 0;
+        for (int c = 0; c < kChunk; ++c) sum += pu[a][c] * pv[b][c];
+        products[a][b] += sum;
+      }
+    for (int r = 0; r < 9; ++r)
+      for (int x = 0; x < 3; ++x) {
+        double sum = 0;
+        for (int c = 0; c < kChunk; ++c) sum += bb[r][c] * d[x][c];
+        rhs[r][x] += sum;
+      }
   }
   double M[9][9];
   for (int r = 0; r < 9; ++r)
@@ -287,19 +304,25 @@ inline FitStatus fitBezierPatch(const double *u, const double *v, const Vec3 *po
   double L[9][9];
   std::copy(&M[0][0], &M[0][0] + 81, &L[0][0]);
   if (detail::ldlt9(L, FitThresholds::ldlt_pivot_ratio)) {
-    for (int c = 0; c < 3; ++c) {
-      double y[9];
-      for (int i = 0; i < 9; ++i) {
-        double x = rhs[i][c];
-        for (int j = 0; j < i; ++j) x -= L[i][j] * y[j];
-        y[i] = x;
+    // L y = rhs, D z = y, Lᵀ x = z, the three coordinates together.
+    double y[9][3];
+    for (int i = 0; i < 9; ++i) {
+      double x0 = rhs[i][0], x1 = rhs[i][1], x2 = rhs[i][2];
+      for (int j = 0; j < i; ++j) {
+        x0 -= L[i][j] * y[j][0], x1 -= L[i][j] * y[j][1], x2 -= L[i][j] * y[j][2];
       }
-      for (int i = 0; i < 9; ++i) y[i] /= L[i][i];
-      for (int i = 8; i >= 0; --i) {
-        double x = y[i];
-        for (int j = i + 1; j < 9; ++j) x -= L[j][i] * X(j, c);
-        X(i, c) = x;
+      y[i][0] = x0, y[i][1] = x1, y[i][2] = x2;
+    }
+    for (int i = 0; i < 9; ++i) {
+      const double inv = 1.0 / L[i][i];
+      y[i][0] *= inv, y[i][1] *= inv, y[i][2] *= inv;
+    }
+    for (int i = 8; i >= 0; --i) {
+      double x0 = y[i][0], x1 = y[i][1], x2 = y[i][2];
+      for (int j = i + 1; j < 9; ++j) {
+        x0 -= L[j][i] * X(j, 0), x1 -= L[j][i] * X(j, 1), x2 -= L[j][i] * X(j, 2);
       }
+      X(i, 0) = x0, X(i, 1) = x1, X(i, 2) = x2;
     }
   } else {
     // Rank-revealing fallback: pseudo-inverse from the symmetric eigen-decomposition.

@@ -55,20 +55,25 @@ enum class NeighbourhoodSize { TwoRing, OneRing };
 inline bool projectNeighbourhood(int i, const std::vector<Vec3> &points, const Rings &rings,
                                  NeighbourhoodSize size, const Vec3 &normal, LocalFrame &frame,
                                  NeighbourhoodScratch &s) {
-  s.vertices.clear();
-  s.vertices.push_back(i);
   const int *begin = size == NeighbourhoodSize::TwoRing ? rings.ring2Begin(i) : rings.ring1Begin(i);
   const int *end = size == NeighbourhoodSize::TwoRing ? rings.ring2End(i) : rings.ring1End(i);
-  s.vertices.insert(s.vertices.end(), begin, end);
+  const int count = 1 + int(end - begin);
+  // Sized once and written by index (no per-point capacity checks); within the reserved capacity
+  // this does not allocate.
+  s.vertices.resize(count);
+  s.local.resize(count);
+  s.u.resize(count);
+  s.v.resize(count);
+  s.vertices[0] = i;
+  std::copy(begin, end, s.vertices.begin() + 1);
 
   frame.origin = points[i];
   frame.n = normal;
   tangentBasis(normal, frame.e1, frame.e2);
-  s.local.clear();
   double x_min = INFINITY, x_max = -INFINITY, y_min = INFINITY, y_max = -INFINITY;
-  for (int w : s.vertices) {
-    const Vec3 l = frame.toLocal(points[w]);
-    s.local.push_back(l);
+  for (int k = 0; k < count; ++k) {
+    const Vec3 l = frame.toLocal(points[s.vertices[k]]);
+    s.local[k] = l;
     x_min = std::min(x_min, l.x()), x_max = std::max(x_max, l.x());
     y_min = std::min(y_min, l.y()), y_max = std::max(y_max, l.y());
   }
@@ -76,11 +81,9 @@ inline bool projectNeighbourhood(int i, const std::vector<Vec3> &points, const R
   frame.y_min = y_min, frame.y_span = y_max - y_min;
   const double box = std::max(frame.x_span, frame.y_span);
   if (!(frame.x_span > 1e-9 * box) || !(frame.y_span > 1e-9 * box)) return false;
-  s.u.clear();
-  s.v.clear();
-  for (const Vec3 &l : s.local) {
-    s.u.push_back(frame.u(l));
-    s.v.push_back(frame.v(l));
+  for (int k = 0; k < count; ++k) {
+    s.u[k] = frame.u(s.local[k]);
+    s.v[k] = frame.v(s.local[k]);
   }
   return true;
 }
