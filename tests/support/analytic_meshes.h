@@ -3,6 +3,7 @@
 
 #include <vcg_ext/mesh_arrays.h>
 
+#include <array>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -142,6 +143,50 @@ inline std::vector<int> shuffledPermutation(int n, unsigned seed) {
   for (int i = 0; i < n; ++i) perm[i] = i;
   std::shuffle(perm.begin(), perm.end(), std::mt19937(seed));
   return perm;
+}
+
+// Closed axis-aligned box [-hx,hx]x[-hy,hy]x[-hz,hz], each side an n x n grid of squares split into
+// two triangles, outward (counter-clockwise) orientation; shared edges and corners are one vertex.
+inline MeshArrays box(double hx, double hy, double hz, int n) {
+  std::vector<Vec3> p;
+  std::vector<Face> f;
+  std::map<std::array<long, 3>, int> index;
+  auto vertex = [&](const Vec3 &q) {
+    const std::array<long, 3> key = {std::lround(q.x() * 1e6), std::lround(q.y() * 1e6),
+                                     std::lround(q.z() * 1e6)};
+    auto it = index.find(key);
+    if (it != index.end()) return it->second;
+    p.push_back(q);
+    return index[key] = int(p.size()) - 1;
+  };
+  const Vec3 half(hx, hy, hz);
+  for (int axis = 0; axis < 3; ++axis)
+    for (int sign = -1; sign <= 1; sign += 2) {
+      // (u, v, normal) right-handed with the normal pointing outward.
+      const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+      std::vector<int> grid((n + 1) * (n + 1));
+      for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+          Vec3 q;
+          q[axis] = sign * half[axis];
+          q[a] = -half[a] + 2 * half[a] * i / n;
+          q[b] = -half[b] + 2 * half[b] * j / n;
+          grid[j * (n + 1) + i] = vertex(q);
+        }
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const int c00 = grid[j * (n + 1) + i], c10 = grid[j * (n + 1) + i + 1];
+          const int c01 = grid[(j + 1) * (n + 1) + i], c11 = grid[(j + 1) * (n + 1) + i + 1];
+          if (sign > 0) {
+            f.push_back({c00, c10, c11});
+            f.push_back({c00, c11, c01});
+          } else {
+            f.push_back({c00, c11, c10});
+            f.push_back({c00, c01, c11});
+          }
+        }
+    }
+  return fromArrays(std::move(p), std::move(f));
 }
 
 } // namespace test_meshes

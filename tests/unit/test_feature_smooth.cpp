@@ -1,0 +1,204 @@
+// The feature-preserving mode's driver (vcg_ext/feature_smooth.h): sharp edges survive normal noise,
+// clean meshes stay put, volume and open boundaries are kept, and the result does not depend on
+// thread count or vertex order.
+#include <gtest/gtest.h>
+#include <omp.h>
+#include <algorithm>
+#include <support/analytic_meshes.h>
+#include <vcg_ext/feature_smooth.h>
+
+using namespace vcg_ext;
+
+namespace {
+
+NormalDeviation deviation(const std::vector<Vec3> &result, const MeshArrays &reference) {
+  return normalDeviation(result, reference.points, reference.faces,
+                         buildEdgeTable(reference.faces));
+}
+
+std::vector<Vec3> featureSmoothed(const MeshArrays &mesh,
+                                  const FeatureSmoothParams &params = FeatureSmoothParams(),
+                                  FeatureSmoothReport *report_out = nullptr) {
+  std::vector<Vec3> out;
+  VertexQuantities q;
+  const FeatureSmoothReport r = featureSmoothMesh(mesh, params, out, q);
+  if (report_out) *report_out = r;
+  return out;
+}
+
+double meanEdge(const MeshArrays &m) {
+  return edgeStatistics(m.points, computeRings(int(m.points.size()), m.faces)).mean_edge_length;
+}
+
+// Gaussian noise along each vertex's area-weighted normal (the literature's noise).
+MeshArrays withNormalNoise(const MeshArrays &clean, double sigma, unsigned seed) {
+  MeshArrays noisy = clean;
+  std::vector<Vec3> normals;
+  computeVertexNormals(clean.points, clean.faces,
+                       computeRings(int(clean.points.size()), clean.faces), normals);
+  test_meshes::addNoise(noisy, sigma, seed, [&](int i) { return normals[i]; });
+  return noisy;
+}
+
+} // namespace
+
+TEST(FeatureSmooth, NoisyBoxKeepsItsEdgesBetterThanTheRingBarycentreMode) {
+  const MeshArrays clean = test_meshes::box(1.0, 0.8, 0.6, 16);
+  const MeshArrays noisy = withNormalNoise(clean, 0.3 * meanEdge(clean), 3);
+  FeatureSmoothReport report;
+  const std::vector<Vec3> out = featureSmoothed(noisy, FeatureSmoothParams(), &report);
+  std::vector<Vec3> ring_barycentre;
+  VertexQuantities q;
+  smoothMesh(noisy, SmoothParams(), ring_barycentre, q);
+
+  const NormalDeviation before = deviation(noisy.points, clean);
+  const NormalDeviation after = deviation(out, clean);
+  const NormalDeviation other = deviation(ring_barycentre, clean);
+  ASSERT_GT(before.sharp_faces, 100); // the box's 12 edges
+  EXPECT_GT(before.theta_sharp_deg, 15.0);
+  EXPECT_LT(after.theta_sharp_deg, 0.25 * before.theta_sharp_deg);
+  EXPECT_LT(after.theta_sharp_deg, 0.5 * other.theta_sharp_deg);
+  EXPECT_LT(after.theta_deg, 0.2 * before.theta_deg);
+  EXPECT_EQ(after.flipped_faces, 0);
+  EXPECT_TRUE(report.closed);
+  EXPECT_NEAR(report.volume_after / signedVolume(clean.points, clean.faces), 1.0, 0.005);
+  RecordProperty("theta_sharp_noisy", std::to_string(before.theta_sharp_deg));
+  RecordProperty("theta_sharp_feature", std::to_string(after.theta_sharp_deg));
+  RecordProperty("theta_sharp_ring_barycentre", std::to_string(other.theta_sharp_deg));
+}
+
+TEST(FeatureSmooth, CleanBoxAndSphereStayAlmostUntouched) {
+  for (const MeshArrays &clean :
+       {test_meshes::box(1.0, 0.8, 0.6, 16), test_meshes::icosphere(1.0, 4)}) {
+    FeatureSmoothReport report;
+    const std::vector<Vec3> out = featureSmoothed(clean, FeatureSmoothParams(), &report);
+    EXPECT_LT(report.median_dihedral_deg, 10.0); // clean: no pre-pass
+    EXPECT_EQ(report.prepass_pairs, 0);
+    EXPECT_LT(deviation(out, clean).theta_deg, 1.0);
+    EXPECT_NEAR(report.volume_after / report.volume_before, 1.0, 0.005);
+    // Nearly every vertex stays within a tenth of an edge (the box's corners round a little).
+    std::vector<double> moves;
+    for (size_t i = 0; i < out.size(); ++i) moves.push_back((out[i] - clean.points[i]).norm());
+    std::sort(moves.begin(), moves.end());
+    EXPECT_LT(moves[moves.size() * 95 / 100], 0.1 * meanEdge(clean));
+    EXPECT_LT(moves.back(), 0.6 * meanEdge(clean));
+  }
+}
+
+TEST(FeatureSmooth, NoisySphereKeepsItsVolumeAndGetsSmooth) {
+  const MeshArrays clean = test_meshes::icosphere(1.0, 4);
+  const MeshArrays noisy = withNormalNoise(clean, 0.3 * meanEdge(clean), 5);
+  FeatureSmoothReport report;
+  const std::vector<Vec3> out = featureSmoothed(noisy, FeatureSmoothParams(), &report);
+  EXPECT_LT(deviation(out, clean).theta_deg, 0.3 * deviation(noisy.points, clean).theta_deg);
+  EXPECT_NEAR(report.volume_after / signedVolume(clean.points, clean.faces), 1.0, 0.005);
+  EXPECT_NEAR(report.volume_after, signedVolume(out, clean.faces), 1e-12);
+}
+
+TEST(FeatureSmooth, RandomDirectionNoiseGetsUnfolded) {
+  // Noise with a tangential part folds faces. Without the pre-pass (which unfolds most of them on
+  // its own), the tangential relaxation around folded faces is what unfolds them: moves along the
+  // filtered normals alone cannot.
+  const MeshArrays clean = test_meshes::icosphere(1.0, 4);
+  MeshArrays noisy = clean;
+  test_meshes::addNoise(noisy, 0.25 * meanEdge(clean), 8);
+  FeatureSmoothParams relaxing;
+  relaxing.prepass_pairs = 0;
+  FeatureSmoothParams not_relaxing = relaxing;
+  not_relaxing.tangential = 0;
+  const NormalDeviation before = deviation(noisy.points, clean);
+  const NormalDeviation relaxed = deviation(featureSmoothed(noisy, relaxing), clean);
+  const NormalDeviation unrelaxed = deviation(featureSmoothed(noisy, not_relaxing), clean);
+  RecordProperty("flipped_noisy", before.flipped_faces);
+  RecordProperty("flipped_relaxed", relaxed.flipped_faces);
+  RecordProperty("flipped_unrelaxed", unrelaxed.flipped_faces);
+  ASSERT_GT(before.flipped_faces, 50);
+  EXPECT_LT(relaxed.flipped_faces, 0.25 * unrelaxed.flipped_faces);
+  EXPECT_LT(relaxed.theta_deg, unrelaxed.theta_deg);
+  // With the default pre-pass: smooth and unfolded.
+  const NormalDeviation with_prepass = deviation(featureSmoothed(noisy), clean);
+  EXPECT_LE(with_prepass.flipped_faces, 2);
+  EXPECT_LT(with_prepass.theta_deg, 0.25 * before.theta_deg);
+}
+
+TEST(FeatureSmooth, OpenBoundaryStaysInPlace) {
+  // A noisy plane: boundary vertices move along the boundary and the normal, not inward.
+  const MeshArrays clean =
+      test_meshes::heightField(30, -1, 1, -1, 1, [](double, double) { return 0.0; });
+  const MeshArrays noisy = withNormalNoise(clean, 0.3 * meanEdge(clean), 9);
+  FeatureSmoothReport report;
+  const std::vector<Vec3> out = featureSmoothed(noisy, FeatureSmoothParams(), &report);
+  EXPECT_FALSE(report.closed);
+  EXPECT_EQ(report.boundary_vertices, 4 * 29);
+  const Rings rings = computeRings(int(clean.points.size()), clean.faces);
+  const double edge = meanEdge(clean);
+  double inward_sum = 0, worst_across = 0;
+  int sides = 0;
+  for (size_t i = 0; i < out.size(); ++i) {
+    const Vec3 &p = clean.points[i];
+    const bool on_x = std::abs(std::abs(p.x()) - 1) < 1e-9, on_y = std::abs(std::abs(p.y()) - 1) < 1e-9;
+    if (!rings.boundary[i] || on_x == on_y) continue; // interior or a corner
+    // Across a straight side is the inward direction: the signed move toward the interior.
+    const double inward = on_x ? -(out[i].x() - p.x()) * p.x() : -(out[i].y() - p.y()) * p.y();
+    inward_sum += inward;
+    worst_across = std::max(worst_across, std::abs(inward));
+    ++sides;
+  }
+  EXPECT_EQ(sides, 4 * 28);
+  EXPECT_LT(std::abs(inward_sum / sides), 0.05 * edge); // no shrinkage to speak of
+  EXPECT_LT(worst_across, 0.25 * edge);
+  EXPECT_LT(deviation(out, clean).theta_deg, 0.3 * deviation(noisy.points, clean).theta_deg);
+}
+
+TEST(FeatureSmooth, SameResultForOneAndTwoThreadsAndPermutedVertices) {
+  const MeshArrays noisy = withNormalNoise(test_meshes::box(1.0, 0.8, 0.6, 10), 0.03, 4);
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const std::vector<Vec3> one = featureSmoothed(noisy);
+  omp_set_num_threads(2);
+  const std::vector<Vec3> two = featureSmoothed(noisy);
+  omp_set_num_threads(threads);
+  ASSERT_EQ(one.size(), two.size());
+  for (size_t i = 0; i < one.size(); ++i) EXPECT_EQ(one[i], two[i]) << i;
+
+  // Renumbered vertices: the same positions up to rounding (sums run in another order).
+  const std::vector<int> perm = test_meshes::shuffledPermutation(int(noisy.points.size()), 12);
+  const std::vector<Vec3> shuffled = featureSmoothed(test_meshes::permuted(noisy, perm));
+  double worst = 0;
+  for (size_t i = 0; i < one.size(); ++i) worst = std::max(worst, (shuffled[perm[i]] - one[i]).norm());
+  EXPECT_LT(worst, 1e-9);
+}
+
+TEST(FeatureSmooth, FrozenVerticesAndInputStayAndCancelStops) {
+  MeshArrays noisy = withNormalNoise(test_meshes::icosphere(1.0, 3), 0.02, 6);
+  noisy.points.push_back(Vec3(5, 5, 5)); // isolated: referenced by no face
+  const MeshArrays copy = noisy;
+  FeatureSmoothReport report;
+  const std::vector<Vec3> out = featureSmoothed(noisy, FeatureSmoothParams(), &report);
+  EXPECT_EQ(report.frozen_vertices, 1);
+  EXPECT_EQ(out.back(), Vec3(5, 5, 5));
+  EXPECT_EQ(noisy.points, copy.points);
+  EXPECT_EQ(report.outer_iterations_done, FeatureSmoothParams().outer_iterations);
+
+  int calls = 0;
+  std::vector<Vec3> cancelled;
+  VertexQuantities q;
+  const FeatureSmoothReport stopped = featureSmoothMesh(
+      noisy, FeatureSmoothParams(), cancelled, q, [&](int, const char *) { return ++calls < 3; });
+  EXPECT_TRUE(stopped.cancelled);
+  EXPECT_EQ(calls, 3);
+}
+
+TEST(FeatureSmooth, SelectedOnlyMovesOnlySelectedVertices) {
+  MeshArrays noisy = withNormalNoise(test_meshes::icosphere(1.0, 3), 0.02, 7);
+  for (size_t i = 0; i < noisy.points.size(); ++i) noisy.selected[i] = noisy.points[i].z() > 0;
+  FeatureSmoothParams params;
+  params.selected_only = true;
+  const std::vector<Vec3> out = featureSmoothed(noisy, params);
+  long moved = 0;
+  for (size_t i = 0; i < out.size(); ++i) {
+    if (!noisy.selected[i]) EXPECT_EQ(out[i], noisy.points[i]);
+    else moved += out[i] != noisy.points[i];
+  }
+  EXPECT_GT(moved, long(out.size() / 3));
+}

@@ -1,0 +1,165 @@
+// Feature mode, stage A (vcg_ext/normal_filter.h): face geometry and rings, the noise estimate, the
+// Taubin pre-pass and guided / bilateral normal filtering.
+#include <gtest/gtest.h>
+#include <omp.h>
+#include <support/analytic_meshes.h>
+#include <vcg_ext/mesh_metrics.h>
+#include <vcg_ext/normal_filter.h>
+
+using namespace vcg_ext;
+
+namespace {
+
+double meanAngleDeg(const std::vector<Vec3> &a, const std::vector<Vec3> &b) {
+  double sum = 0;
+  for (size_t i = 0; i < a.size(); ++i) sum += angleDeg(a[i], b[i]);
+  return sum / a.size();
+}
+
+// Two planes meeting at a right angle along the y axis: z = |x| (a "roof" turned upside down);
+// odd n puts a column of vertices on the crease.
+MeshArrays roof(int n) {
+  return test_meshes::heightField(n, -1, 1, -1, 1, [](double x, double) { return std::abs(x); });
+}
+
+} // namespace
+
+TEST(NormalFilter, FaceGeometryOfOneTriangle) {
+  const MeshArrays m = test_meshes::fromArrays({{0, 0, 0}, {2, 0, 0}, {0, 2, 0}}, {{0, 1, 2}});
+  FaceGeometry g;
+  computeFaceGeometry(m.points, m.faces, g);
+  EXPECT_DOUBLE_EQ(g.area[0], 2.0);
+  EXPECT_EQ(g.normal[0], Vec3(0, 0, 1));
+  EXPECT_TRUE(g.centroid[0].isApprox(Vec3(2.0 / 3, 2.0 / 3, 0)));
+}
+
+TEST(NormalFilter, FaceRingsOfAGrid) {
+  // 4x4 vertices, every interior vertex of valence 6: an inner face shares a vertex with 12 others.
+  const MeshArrays m = test_meshes::heightField(4, 0, 3, 0, 3, [](double, double) { return 0.0; });
+  const FaceRings r = computeFaceRings(m.faces, computeRings(16, m.faces));
+  // Face 8 is {5, 6, 10}: the lower triangle of the middle square, all three vertices interior.
+  ASSERT_EQ(m.faces[8], (Face{5, 6, 10}));
+  EXPECT_EQ(r.size(8), 13);
+  EXPECT_TRUE(r.contains(8, 8));
+  int neighbours = 0;
+  for (int g : r.edge_neighbours[8]) neighbours += g >= 0;
+  EXPECT_EQ(neighbours, 3);
+  // Face 4 is {2, 3, 7}, in the corner where the diagonals leave it two boundary edges.
+  ASSERT_EQ(m.faces[4], (Face{2, 3, 7}));
+  neighbours = 0;
+  for (int g : r.edge_neighbours[4]) neighbours += g >= 0;
+  EXPECT_EQ(neighbours, 1);
+}
+
+TEST(NormalFilter, MedianDihedralSeparatesCleanFromNoisy) {
+  FaceGeometry g;
+  const MeshArrays box = test_meshes::box(1, 1, 1, 8);
+  computeFaceGeometry(box.points, box.faces, g);
+  EXPECT_NEAR(medianDihedralDeg(g, computeFaceRings(box.faces, computeRings(int(box.points.size()), box.faces))), 0.0, 1e-9);
+  // An icosphere of subdivision 4 has a few degrees between neighbouring faces (about edge/radius).
+  const MeshArrays sphere = test_meshes::icosphere(1, 4);
+  computeFaceGeometry(sphere.points, sphere.faces, g);
+  const FaceRings sphere_rings =
+      computeFaceRings(sphere.faces, computeRings(int(sphere.points.size()), sphere.faces));
+  const double clean = medianDihedralDeg(g, sphere_rings);
+  EXPECT_GT(clean, 2.0);
+  EXPECT_LT(clean, 5.0);
+  MeshArrays noisy = sphere;
+  test_meshes::addNoise(noisy, 0.3 * 0.0775, 2); // 0.3 mean edge lengths
+  computeFaceGeometry(noisy.points, noisy.faces, g);
+  EXPECT_GT(medianDihedralDeg(g, sphere_rings), 20.0);
+}
+
+TEST(NormalFilter, TaubinFlattensNoiseAndKeepsStraightBoundaries) {
+  const MeshArrays clean =
+      test_meshes::heightField(20, -1, 1, -1, 1, [](double, double) { return 0.0; });
+  MeshArrays noisy = clean;
+  test_meshes::addNoise(noisy, 0.02, 4, [](int) { return Vec3(0, 0, 1); });
+  const Rings rings = computeRings(int(clean.points.size()), clean.faces);
+  std::vector<std::uint8_t> fixed(clean.points.size(), 0);
+  std::vector<std::array<int, 2>> curve(clean.points.size(), {-1, -1});
+  // Boundary neighbours along the four sides (corners have two as well, at a right angle).
+  const int n = 20;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int v = j * n + i;
+      if (!rings.boundary[v]) continue;
+      if (j == 0 || j == n - 1) curve[v] = {i > 0 ? v - 1 : v + n, i < n - 1 ? v + 1 : v + n};
+      if (i == 0 || i == n - 1) curve[v] = {j > 0 ? v - n : v + 1, j < n - 1 ? v + n : v + 1};
+      if ((i == 0 || i == n - 1) && (j == 0 || j == n - 1)) curve[v] = {-1, -1}; // corners stay
+    }
+  std::vector<Vec3> smoothed = noisy.points;
+  taubinSmooth(smoothed, rings, fixed, curve, 4);
+  double rms_before = 0, rms_after = 0;
+  for (size_t v = 0; v < smoothed.size(); ++v) {
+    rms_before += noisy.points[v].z() * noisy.points[v].z();
+    rms_after += smoothed[v].z() * smoothed[v].z();
+    if (!rings.boundary[v]) continue;
+    // A boundary vertex moves along its straight side only: the coordinate across it stays.
+    const Vec3 &p = clean.points[v];
+    if (std::abs(std::abs(p.x()) - 1) < 1e-12) EXPECT_DOUBLE_EQ(smoothed[v].x(), p.x());
+    if (std::abs(std::abs(p.y()) - 1) < 1e-12) EXPECT_DOUBLE_EQ(smoothed[v].y(), p.y());
+  }
+  EXPECT_LT(rms_after, 0.35 * rms_before);
+  // Fixed vertices stay exactly.
+  std::fill(fixed.begin(), fixed.end(), 1);
+  std::vector<Vec3> kept = noisy.points;
+  taubinSmooth(kept, rings, fixed, curve, 4);
+  EXPECT_EQ(kept, noisy.points);
+}
+
+TEST(NormalFilter, GuidedFilterDenoisesAndKeepsARightAngleCrease) {
+  const MeshArrays clean = roof(31);
+  MeshArrays noisy = clean;
+  test_meshes::addNoise(noisy, 0.25 * (2.0 / 30), 6, [](int) { return Vec3(0, 0, 1); });
+  const Rings rings = computeRings(int(clean.points.size()), clean.faces);
+  const FaceRings face_rings = computeFaceRings(clean.faces, rings);
+  FaceGeometry truth, g;
+  computeFaceGeometry(clean.points, clean.faces, truth);
+  computeFaceGeometry(noisy.points, noisy.faces, g);
+  const double edge = edgeStatistics(clean.points, rings).mean_edge_length;
+
+  NormalFilterParams guided;
+  guided.sigma_r = 0.25;
+  guided.iterations = 15;
+  NormalFilterParams bilateral = guided;
+  bilateral.kind = NormalFilterKind::Bilateral;
+  std::vector<Vec3> by_guided, by_bilateral;
+  filterNormals(clean.faces, face_rings, g, guided, edge, by_guided);
+  filterNormals(clean.faces, face_rings, g, bilateral, edge, by_bilateral);
+
+  const double noisy_error = meanAngleDeg(g.normal, truth.normal);
+  EXPECT_GT(noisy_error, 10.0);
+  EXPECT_LT(meanAngleDeg(by_guided, truth.normal), 0.15 * noisy_error);
+  // On the faces touching the crease (|x| < one edge) guidance keeps the two sides apart.
+  double crease_guided = 0, crease_bilateral = 0;
+  int count = 0;
+  for (size_t f = 0; f < clean.faces.size(); ++f)
+    if (std::abs(truth.centroid[f].x()) < edge) {
+      crease_guided += angleDeg(by_guided[f], truth.normal[f]);
+      crease_bilateral += angleDeg(by_bilateral[f], truth.normal[f]);
+      ++count;
+    }
+  ASSERT_GT(count, 50);
+  EXPECT_LT(crease_guided / count, 5.0);
+  EXPECT_LT(crease_guided, crease_bilateral);
+  RecordProperty("crease_guided_deg", std::to_string(crease_guided / count));
+  RecordProperty("crease_bilateral_deg", std::to_string(crease_bilateral / count));
+}
+
+TEST(NormalFilter, SameNormalsForOneAndTwoThreads) {
+  MeshArrays noisy = test_meshes::icosphere(1, 3);
+  test_meshes::addNoise(noisy, 0.03, 3);
+  const Rings rings = computeRings(int(noisy.points.size()), noisy.faces);
+  const FaceRings face_rings = computeFaceRings(noisy.faces, rings);
+  FaceGeometry g;
+  computeFaceGeometry(noisy.points, noisy.faces, g);
+  const int threads = omp_get_max_threads();
+  std::vector<Vec3> one, two;
+  omp_set_num_threads(1);
+  filterNormals(noisy.faces, face_rings, g, NormalFilterParams(), 0.15, one);
+  omp_set_num_threads(2);
+  filterNormals(noisy.faces, face_rings, g, NormalFilterParams(), 0.15, two);
+  omp_set_num_threads(threads);
+  EXPECT_EQ(one, two);
+}

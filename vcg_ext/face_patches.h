@@ -1,0 +1,183 @@
+// Feature-preserving mode, stage B: one bi-quadratic height patch per face, and the vertex update
+// that moves each vertex onto the patches of its faces.
+//
+// Inputs: current positions, triangles, FaceRings and face geometry (normal_filter.h), the filtered
+// face normals. Output: per face a FacePatch; per vertex its new position. The patch of face f is a
+// height field z(x, y) = Σ c_ab x^a y^b (a, b ≤ 2, the space of a bi-quadratic Bézier patch) over
+// the plane through f's centroid perpendicular to f's filtered normal, in mean-edge-length units. It
+// is fitted by weighted least squares to the centroids of f's vertex ring (weight: area × a range
+// kernel on the filtered normals, so faces across a crease do not count), with the filtered normals
+// as slope constraints and a tiny thin-plate term that keeps the fit well posed. The vertex update is
+// Sun, Rosin, Martin, Langbein 2007's (each face's plane pulls the vertex along its normal) with the
+// patches in place of the planes. Written as a scalar height fit rather than with bezier_patch.h:
+// slope constraints need derivative rows, which the 3-D control-point fit does not take.
+#pragma once
+
+#include "normal_filter.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+namespace vcg_ext {
+
+using HeightCoefficients = Eigen::Matrix<double, 9, 1>;
+
+struct FacePatch {
+  Vec3 origin = Vec3::Zero(), e1 = Vec3::UnitX(), e2 = Vec3::UnitY(), normal = Vec3::UnitZ();
+  double unit = 1;                                      // length of one local unit (mean edge)
+  HeightCoefficients c = HeightCoefficients::Zero();    // zero: the plane (Sun's update)
+
+  // The height basis x^a y^b, index 3a + b, and its x and y derivatives.
+  static HeightCoefficients basis(double x, double y) {
+    const double px[3] = {1, x, x * x}, py[3] = {1, y, y * y};
+    HeightCoefficients b;
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < 3; ++k) b[3 * a + k] = px[a] * py[k];
+    return b;
+  }
+  static void basisGradient(double x, double y, HeightCoefficients &bx, HeightCoefficients &by) {
+    const double px[3] = {1, x, x * x}, py[3] = {1, y, y * y};
+    const double dx[3] = {0, 1, 2 * x}, dy[3] = {0, 1, 2 * y};
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < 3; ++k) {
+        bx[3 * a + k] = dx[a] * py[k];
+        by[3 * a + k] = px[a] * dy[k];
+      }
+  }
+
+  // Where the patch is, measured along the normal from `p`'s foot point: p moved onto the patch.
+  Vec3 projectAlongNormal(const Vec3 &p) const {
+    const Vec3 d = (p - origin) / unit;
+    const double x = d.dot(e1), y = d.dot(e2), z = d.dot(normal);
+    return p + normal * ((basis(x, y).dot(c) - z) * unit);
+  }
+};
+
+struct FacePatchParams {
+  double sigma = 0.2;        // range kernel width on |n_f − n_j| of the filtered normals
+  double slope_weight = 1.0; // weight of a slope row relative to its centroid's position row
+  double thin_plate = 1e-5;  // thin-plate energy over [−1,1]², relative to the total weight
+};
+
+namespace detail {
+
+// ∫∫ over [−1,1]² of z_xx² + 2 z_xy² + z_yy² as a quadratic form in the height coefficients,
+// integrated exactly by 3-point Gauss–Legendre quadrature (the integrands have degree ≤ 4 per axis).
+inline const Eigen::Matrix<double, 9, 9> &thinPlateMatrix() {
+  static const Eigen::Matrix<double, 9, 9> T = [] {
+    Eigen::Matrix<double, 9, 9> t = Eigen::Matrix<double, 9, 9>::Zero();
+    const double g[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)}, w[3] = {5.0 / 9, 8.0 / 9, 5.0 / 9};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const double x = g[i], y = g[j];
+        const double px[3] = {1, x, x * x}, py[3] = {1, y, y * y};
+        const double dx[3] = {0, 1, 2 * x}, dy[3] = {0, 1, 2 * y};
+        const double ddx[3] = {0, 0, 2}, ddy[3] = {0, 0, 2};
+        HeightCoefficients xx, xy, yy;
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) {
+            xx[3 * a + b] = ddx[a] * py[b];
+            xy[3 * a + b] = dx[a] * dy[b];
+            yy[3 * a + b] = px[a] * ddy[b];
+          }
+        t += w[i] * w[j] * (xx * xx.transpose() + 2 * xy * xy.transpose() + yy * yy.transpose());
+      }
+    return t;
+  }();
+  return T;
+}
+
+// M += w a aᵀ on the lower triangle only (what LDLT<·, Lower> reads); column-major, so the inner
+// loop runs down a column.
+inline void addLowerOuter(Eigen::Matrix<double, 9, 9> &M, double w, const HeightCoefficients &a) {
+  for (int j = 0; j < 9; ++j) {
+    const double s = w * a[j];
+    for (int i = j; i < 9; ++i) M(i, j) += s * a[i];
+  }
+}
+
+} // namespace detail
+
+// Fits face f's patch. Returns false (leaving `out` the plane through f's centroid with its
+// filtered normal, i.e. Sun's update) when the face has no usable normal or the solve fails.
+inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                         const FaceRings &face_rings, const FaceGeometry &geometry,
+                         const std::vector<Vec3> &filtered, double mean_area, double mean_edge,
+                         const FacePatchParams &params, FacePatch &out) {
+  const Vec3 &n = filtered[f];
+  out.origin = geometry.centroid[f];
+  out.unit = mean_edge;
+  out.c.setZero();
+  out.normal = n; // a zero normal makes the patch a no-op in the vertex update
+  if (!(n.squaredNorm() > 0.5)) return false;
+  // Any tangent frame serves (the fit is rotation invariant); take the one least aligned with n.
+  const Vec3 axis = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : std::abs(n.y()) < 0.6 ? Vec3::UnitY()
+                                                                                   : Vec3::UnitZ();
+  out.e1 = (axis - n * n.dot(axis)).normalized();
+  out.e2 = n.cross(out.e1);
+
+  Eigen::Matrix<double, 9, 9> M = Eigen::Matrix<double, 9, 9>::Zero();
+  HeightCoefficients rhs = HeightCoefficients::Zero();
+  const double range = -0.5 / (params.sigma * params.sigma);
+  double total = 0;
+  for (const int *g = face_rings.begin(f); g != face_rings.end(f); ++g) {
+    const Vec3 &m = filtered[*g];
+    const double w =
+        geometry.area[*g] / mean_area * std::exp(range * (n - m).squaredNorm());
+    if (!(w > 1e-12)) continue;
+    // Face g's data are its centroid height and its normal, i.e. its plane. The patch is asked to
+    // reproduce that plane where it interpolates g's corners (the mean of the patch at the corners,
+    // the gradient of the linear interpolant), not at the centroid: a centroid lies below a convex
+    // surface by about h²κ/6, and fitting centroids would sink the mesh a little every pass.
+    double x[3], y[3], z[3];
+    HeightCoefficients corner[3];
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 d = (points[faces[*g][k]] - out.origin) / mean_edge;
+      x[k] = d.dot(out.e1), y[k] = d.dot(out.e2), z[k] = d.dot(n);
+      corner[k] = FacePatch::basis(x[k], y[k]);
+    }
+    const HeightCoefficients b = (corner[0] + corner[1] + corner[2]) / 3.0;
+    detail::addLowerOuter(M, w, b);
+    rhs.noalias() += (w * (z[0] + z[1] + z[2]) / 3.0) * b;
+    total += w;
+    const double along = m.dot(n);
+    const double ax = x[1] - x[0], ay = y[1] - y[0], bx = x[2] - x[0], by = y[2] - y[0];
+    const double det = ax * by - ay * bx; // twice the projected area, in edge² units
+    const double true_area = 2.0 * geometry.area[*g] / (mean_edge * mean_edge);
+    // Slopes only where g's projection is a fair, unfolded triangle and m is not steep.
+    if (along > 0.5 && params.slope_weight > 0 && det > 0.3 * true_area) {
+      // The interpolant's gradient: J g = (h1 − h0, h2 − h0), J = [ax ay; bx by].
+      const HeightCoefficients d1 = corner[1] - corner[0], d2 = corner[2] - corner[0];
+      const HeightCoefficients gx = (by * d1 - ay * d2) / det, gy = (-bx * d1 + ax * d2) / det;
+      // The height field whose normal is m has gradient −(m·e1, m·e2)/(m·n).
+      const double ws = w * params.slope_weight;
+      detail::addLowerOuter(M, ws, gx);
+      detail::addLowerOuter(M, ws, gy);
+      rhs.noalias() += ws * (-m.dot(out.e1) / along) * gx + ws * (-m.dot(out.e2) / along) * gy;
+    }
+  }
+  if (!(total > 0)) return false;
+  M += params.thin_plate * total * detail::thinPlateMatrix();
+  Eigen::LDLT<Eigen::Matrix<double, 9, 9>, Eigen::Lower> ldlt(M);
+  const auto D = ldlt.vectorD();
+  if (ldlt.info() != Eigen::Success || !(D.minCoeff() > 1e-12 * D.maxCoeff())) return false;
+  const HeightCoefficients c = ldlt.solve(rhs);
+  if (!c.allFinite()) return false;
+  out.c = c;
+  return true;
+}
+
+// Sun et al.'s vertex update with patches: the mean, over the vertex's faces, of the vertex moved
+// along each face's normal onto that face's patch.
+inline Vec3 moveOntoFacePatches(int v, const Vec3 &p, const Rings &rings,
+                                const std::vector<FacePatch> &patches) {
+  Vec3 sum = Vec3::Zero();
+  int count = 0;
+  for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) {
+    sum += patches[*f].projectAlongNormal(p) - p;
+    ++count;
+  }
+  return count ? Vec3(p + sum / count) : p;
+}
+
+} // namespace vcg_ext

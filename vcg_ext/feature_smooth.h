@@ -1,0 +1,262 @@
+// The feature-preserving mode's driver: a short Taubin pre-pass, guided normal filtering, and
+// vertices moved onto the planes and then the bi-quadratic patches of their faces
+// (normal_filter.h, face_patches.h; ALGORITHM.md "Toward real feature preservation").
+//
+// Same contract as smoothMesh (smooth.h): the input is never modified, the result goes to
+// `out_points`, a report says what happened, progress can cancel, every pass reads one position
+// array and writes another (Jacobi), so the result does not depend on vertex order or thread count.
+// Non-manifold, isolated and degenerate-face vertices never move; boundary vertices move along
+// their boundary and the surface normal, never inward (smooth.h's BoundaryMode::NoInward). All
+// lengths are in mean edge lengths: no parameter depends on the mesh's scale.
+//
+// Per outer pass: filter the face normals (guided), then `vertex_iterations` Sun-style updates; in
+// the last pass the last `patch_iterations` of them go onto face patches instead of face planes.
+// Near folded faces (normal far from the filtered one) an update also relaxes the vertex toward
+// its 1-ring barycentre within its "feature tangent space" (the directions orthogonal to all its
+// faces' filtered normals: the tangent plane on smooth parts, the crease line on a crease, nothing
+// at a corner): noise with a tangential part folds faces, and moves along the filtered normals
+// alone cannot unfold them. The Taubin pre-pass runs in proportion to the measured noise.
+#pragma once
+
+#include "face_patches.h"
+#include "smooth.h"
+
+#include <Eigen/Eigenvalues>
+
+namespace vcg_ext {
+
+// Measured on the public benchmark (bench/FEATURE_MODE.md): a narrower spatial kernel and range
+// than GNF's defaults, and no area weights (area weights let large faces dictate the normals of
+// small neighbours, which bends the curved parts of irregular meshes such as SharpSphere).
+inline NormalFilterParams featureNormalFilterDefaults() {
+  NormalFilterParams p;
+  p.kind = NormalFilterKind::Guided;
+  p.sigma_s = 1.0;
+  p.sigma_r = 0.25;
+  p.iterations = 10;
+  p.guidance_every = 4;
+  p.area_power = 0.0;
+  return p;
+}
+
+struct FeatureSmoothParams {
+  int prepass_pairs = 4;      // Taubin λ|μ pairs (0.5 / −0.53) before the normals are filtered,
+                              // scaled down on meshes that measure little noise (see below)
+  NormalFilterParams normals = featureNormalFilterDefaults();
+  int outer_iterations = 2;   // filter normals, then move vertices; repeated
+  int vertex_iterations = 6;  // vertex updates per outer pass
+  int patch_iterations = 1;   // how many of the last pass's (the last ones) use face patches
+  double tangential = 0.5;    // step of the tangential relaxation toward the 1-ring barycentre
+  int relax_rings = 1;        // relax vertices within this many rings of a folded face; −1: all
+  double fold_cos = 0.5;      // a face is folded when its normal is this far from its filtered one
+  FacePatchParams patches;
+  bool selected_only = false;
+  double saliency_scale = 0.003; // for the per-vertex quantities of the result only
+};
+
+struct FeatureSmoothReport {
+  bool cancelled = false;
+  int outer_iterations_done = 0;
+  long vertices_moved = 0;
+  long frozen_vertices = 0;     // non-manifold, isolated or on a degenerate face: never moved
+  long boundary_vertices = 0;   // moved along the boundary and the normal only
+  long plane_fallbacks = 0;     // (over all passes) patch fits that fell back to the face's plane
+  long rejected_moves = 0;      // non-finite positions: vertex kept
+  double median_dihedral_deg = 0; // of the input: the noise estimate that sets the pre-pass
+  int prepass_pairs = 0;          // Taubin pairs actually run
+  double volume_before = 0, volume_after = 0;
+  bool closed = false;
+  double mean_edge_length = 0, bbox_diagonal = 0;
+  double seconds_topology = 0, seconds_prepass = 0, seconds_normals = 0, seconds_vertices = 0,
+         seconds_quantities = 0;
+};
+
+namespace detail {
+
+// The projector onto the directions orthogonal to the vertex's filtered face normals, in which the
+// surface around it does not bend away: its tangent plane, a crease line, or nothing at a corner.
+inline Eigen::Matrix3d featureTangentProjector(int v, const Rings &rings,
+                                               const std::vector<Vec3> &filtered) {
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f)
+    C.noalias() += filtered[*f] * filtered[*f].transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
+  eigen.computeDirect(C);
+  const double largest = eigen.eigenvalues()[2];
+  if (!(largest > 0) || !eigen.eigenvectors().allFinite()) return Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d P = Eigen::Matrix3d::Identity();
+  // A direction carrying a tenth of the largest normal "mass" counts as a normal direction: one
+  // for a smooth vertex, two on a crease, three at a corner.
+  for (int k = 0; k < 3; ++k)
+    if (eigen.eigenvalues()[k] > 0.1 * largest) {
+      const Vec3 e = eigen.eigenvectors().col(k);
+      P.noalias() -= e * e.transpose();
+    }
+  return P;
+}
+
+} // namespace detail
+
+inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
+                                             const FeatureSmoothParams &params,
+                                             std::vector<Vec3> &out_points,
+                                             VertexQuantities &quantities,
+                                             const ProgressFn &progress = nullptr) {
+  using clock = std::chrono::steady_clock;
+  auto seconds = [](clock::time_point a) {
+    return std::chrono::duration<double>(clock::now() - a).count();
+  };
+  FeatureSmoothReport report;
+  const int n = int(mesh.points.size());
+  const int face_count = int(mesh.faces.size());
+  auto t = clock::now();
+  const Rings rings = computeRings(n, mesh.faces);
+  const EdgeStatistics stats = edgeStatistics(mesh.points, rings);
+  const detail::VertexRoles roles = detail::vertexRoles(mesh, rings, stats.mean_edge_length);
+  const FaceRings face_rings = computeFaceRings(mesh.faces, rings);
+  report.mean_edge_length = stats.mean_edge_length;
+  report.bbox_diagonal = stats.bbox_diagonal;
+  report.closed = rings.boundary_edges == 0 && rings.nonmanifold_edges == 0;
+  std::vector<std::uint8_t> fixed(n, 0);
+  for (int v = 0; v < n; ++v) {
+    fixed[v] = roles.frozen[v] || (params.selected_only && !mesh.selected[v]);
+    report.frozen_vertices += roles.frozen[v];
+    report.boundary_vertices += rings.boundary[v] && !fixed[v];
+  }
+  report.volume_before = signedVolume(mesh.points, mesh.faces);
+  report.seconds_topology = seconds(t);
+  const double edge = stats.mean_edge_length;
+  const int outer = std::max(0, params.outer_iterations);
+  const int vertex_iterations = std::max(0, params.vertex_iterations);
+  auto report_progress = [&](int pass, double fraction, const char *stage) {
+    if (!progress) return true;
+    const int percent = int(90.0 * (pass + fraction) / std::max(1, outer));
+    return progress(std::min(percent, 99), stage);
+  };
+
+  std::vector<Vec3> current = mesh.points;
+  t = clock::now();
+  FaceGeometry geometry;
+  computeFaceGeometry(current, mesh.faces, geometry);
+  // The pre-pass rounds creases that the rest only partly restores (a clean box: 1.1° instead of
+  // 0.3°), so it runs in full only where the mesh is rough: none below a median dihedral angle of
+  // 10° (clean meshes), all pairs from 20° (the benchmark's noise), linearly in between.
+  report.median_dihedral_deg = medianDihedralDeg(geometry, face_rings);
+  const double roughness = std::clamp((report.median_dihedral_deg - 10.0) / 10.0, 0.0, 1.0);
+  report.prepass_pairs = int(std::lround(roughness * std::max(0, params.prepass_pairs)));
+  if (edge > 0) taubinSmooth(current, rings, fixed, roles.boundary_neighbours, report.prepass_pairs);
+  report.seconds_prepass = seconds(t);
+  if (!report_progress(0, 0.05, "Taubin pre-pass")) return report.cancelled = true, report;
+
+  std::vector<Vec3> filtered, next(current), vertex_normals;
+  std::vector<FacePatch> patches(face_count);
+  std::vector<Eigen::Matrix3d> tangent_projector(params.tangential > 0 ? n : 0);
+  std::vector<std::uint8_t> relax(n, 1), relax_next(n, 1);
+  for (int pass = 0; pass < outer && edge > 0; ++pass) {
+    t = clock::now();
+    computeFaceGeometry(current, mesh.faces, geometry);
+    filterNormals(mesh.faces, face_rings, geometry, params.normals, edge, filtered);
+    if (params.tangential > 0) {
+#pragma omp parallel for schedule(static)
+      for (int v = 0; v < n; ++v)
+        tangent_projector[v] = rings.boundary[v] || fixed[v]
+                                   ? Eigen::Matrix3d::Zero()
+                                   : detail::featureTangentProjector(v, rings, filtered);
+    }
+    report.seconds_normals += seconds(t);
+    if (!report_progress(pass, 0.4, "Filtering normals")) return report.cancelled = true, report;
+
+    t = clock::now();
+    for (int it = 0; it < vertex_iterations; ++it) {
+      computeFaceGeometry(current, mesh.faces, geometry);
+      // Patches refine the last pass only: measured, earlier passes gain little from them for
+      // their cost (a fit per face is most of a pass's time).
+      const bool use_patches = pass == outer - 1 && it >= vertex_iterations - params.patch_iterations;
+      double mean_area = 0;
+      for (double a : geometry.area) mean_area += a / face_count;
+      long fallbacks = 0, rejected = 0;
+#pragma omp parallel for schedule(static) reduction(+ : fallbacks)
+      for (int f = 0; f < face_count; ++f) {
+        if (use_patches) {
+          fallbacks += !fitFacePatch(f, current, mesh.faces, face_rings, geometry, filtered,
+                                     mean_area, edge, params.patches, patches[f]);
+        } else {
+          patches[f] = FacePatch();
+          patches[f].origin = geometry.centroid[f];
+          patches[f].unit = edge;
+          patches[f].normal = filtered[f]; // zero height: the face's plane (Sun et al.)
+        }
+      }
+      // Boundary moves keep off the inward direction, which needs the surface normal there.
+      if (report.boundary_vertices) computeVertexNormals(current, mesh.faces, rings, vertex_normals);
+      // Folds: faces whose normal is far from their filtered normal; the relaxation works around
+      // them only, so a clean or unfolded mesh keeps its triangulation.
+      if (params.tangential > 0 && params.relax_rings >= 0) {
+#pragma omp parallel for schedule(static)
+        for (int v = 0; v < n; ++v) {
+          std::uint8_t near = 0;
+          for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v) && !near; ++f)
+            near = geometry.normal[*f].dot(filtered[*f]) < params.fold_cos;
+          relax[v] = near;
+        }
+        for (int ring = 0; ring < params.relax_rings; ++ring) {
+#pragma omp parallel for schedule(static)
+          for (int v = 0; v < n; ++v) {
+            std::uint8_t near = relax[v];
+            for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v) && !near; ++w)
+              near = relax[*w];
+            relax_next[v] = near;
+          }
+          relax.swap(relax_next);
+        }
+      }
+#pragma omp parallel for schedule(static) reduction(+ : rejected)
+      for (int v = 0; v < n; ++v) {
+        next[v] = current[v];
+        if (fixed[v] || rings.ring1Size(v) == 0) continue;
+        Vec3 moved = moveOntoFacePatches(v, current[v], rings, patches);
+        if (params.tangential > 0 && relax[v]) {
+          Vec3 centre = Vec3::Zero();
+          for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) centre += current[*w];
+          const Vec3 step = centre / rings.ring1Size(v) - current[v];
+          // On the boundary, the rule below keeps what may stay of the step.
+          moved += params.tangential * (rings.boundary[v] ? step : Vec3(tangent_projector[v] * step));
+        }
+        if (rings.boundary[v])
+          moved = detail::constrainBoundaryMove(v, moved, current, vertex_normals, roles,
+                                                BoundaryMode::NoInward);
+        if (moved.allFinite()) next[v] = moved;
+        else ++rejected;
+      }
+      current.swap(next);
+      report.plane_fallbacks += fallbacks;
+      report.rejected_moves += rejected;
+      if (!report_progress(pass, 0.4 + 0.6 * (it + 1) / vertex_iterations, "Moving vertices"))
+        return report.cancelled = true, report;
+    }
+    report.seconds_vertices += seconds(t);
+    report.outer_iterations_done = pass + 1;
+  }
+
+  // Describe the result with the same per-vertex quantities as the other modes.
+  t = clock::now();
+  SurfaceAnalysis analysis;
+  analyseSurface(current, mesh.faces, rings, params.saliency_scale * stats.bbox_diagonal, analysis);
+  quantities.saliency = analysis.saliency;
+  quantities.k1 = analysis.curvature.k1;
+  quantities.k2 = analysis.curvature.k2;
+  quantities.mean = analysis.curvature.mean;
+  quantities.gauss = analysis.curvature.gauss;
+  quantities.alpha.assign(n, 1.0);
+  quantities.displacement.assign(n, 0.0);
+  for (int i = 0; i < n; ++i) {
+    quantities.displacement[i] = (current[i] - mesh.points[i]).norm();
+    report.vertices_moved += quantities.displacement[i] > 0;
+  }
+  report.seconds_quantities = seconds(t);
+  report.volume_after = signedVolume(current, mesh.faces);
+  out_points.swap(current);
+  return report;
+}
+
+} // namespace vcg_ext
