@@ -8,6 +8,7 @@
 #include <vcg/complex/algorithms/update/bounding.h>
 #include <vcg/complex/algorithms/update/normal.h>
 #include <vcg/complex/complex.h>
+#include <vcg_ext/feature_smooth.h>
 #include <vcg_ext/smooth.h>
 
 #include <chrono>
@@ -171,13 +172,73 @@ FilterOutcome applyComputeSaliency(MeshType &m, const ParameterValues &p, vcg::C
   return out;
 }
 
+namespace detail {
+
+// Writes a smoothing run's positions, quality and attributes into the mesh; returns how many
+// per-vertex values had to be clamped to the mesh's number range.
+template <class MeshType>
+long storeSmoothingResult(MeshType &m, const vcg_ext::MeshArrays &arrays,
+                          const std::vector<vcg_ext::Vec3> &result,
+                          const vcg_ext::VertexQuantities &q, int quality) {
+  vcg_ext::writePositions(m, arrays, result);
+  const std::vector<double> *quantities[] = {&q.saliency, &q.mean, &q.gauss, &q.k1,
+                                             &q.k2,       &q.alpha, &q.displacement};
+  storeQuality(m, arrays, *quantities[quality]);
+  long clamped = 0;
+  storeAttribute(m, arrays, "Saliency", q.saliency, clamped);
+  storeAttribute(m, arrays, "MeanCurvature", q.mean, clamped);
+  storeAttribute(m, arrays, "GaussianCurvature", q.gauss, clamped);
+  storeAttribute(m, arrays, "K1", q.k1, clamped);
+  storeAttribute(m, arrays, "K2", q.k2, clamped);
+  storeAttribute(m, arrays, "Alpha", q.alpha, clamped);
+  storeAttribute(m, arrays, "Displacement", q.displacement, clamped);
+  if (vcg::tri::HasPerVertexNormal(m) && vcg::tri::HasPerFaceNormal(m))
+    vcg::tri::UpdateNormal<MeshType>::PerVertexNormalizedPerFaceNormalized(m);
+  vcg::tri::UpdateBounding<MeshType>::Box(m);
+  return clamped;
+}
+
+inline std::string clampedLog(long clamped) {
+  return format("%.0f per-vertex values were NaN or beyond the mesh's number range (a tiny mesh "
+                "or tiny faces): stored as 0 or the largest representable value.",
+                double(clamped));
+}
+
+inline std::vector<std::string> featureLog(const vcg_ext::FeatureSmoothReport &r, size_t vertices) {
+  std::vector<std::string> log;
+  log.push_back(format("Feature-preserving mode, %.0f passes: %.0f of %.0f vertices moved.",
+                       r.outer_iterations_done, double(r.vertices_moved), double(vertices)));
+  log.push_back(format("Noise estimate (median dihedral angle) %.1f deg: %.0f Taubin pre-pass "
+                       "pairs.",
+                       r.median_dihedral_deg, r.prepass_pairs));
+  if (r.frozen_vertices > 0)
+    log.push_back(format("Skipped (left in place): %.0f non-manifold, isolated or on degenerate "
+                         "faces.",
+                         double(r.frozen_vertices)));
+  if (r.plane_fallbacks + r.rejected_moves > 0)
+    log.push_back(format("Patch fits that fell back to the face plane: %.0f; non-finite moves "
+                         "kept in place: %.0f.",
+                         double(r.plane_fallbacks), double(r.rejected_moves)));
+  if (r.closed && r.volume_before != 0)
+    log.push_back(format("Volume %g -> %g (ratio %.4f).", r.volume_before, r.volume_after,
+                         r.volume_after / r.volume_before));
+  log.push_back(format("Time: topology and pre-pass %.3f s, normal filtering %.3f s, vertex "
+                       "updates %.3f s, result quantities %.3f s.",
+                       r.seconds_topology + r.seconds_prepass, r.seconds_normals,
+                       r.seconds_vertices, r.seconds_quantities));
+  return log;
+}
+
+} // namespace detail
+
 inline vcg_ext::SmoothParams smoothParamsOf(const ParameterValues &p) {
   vcg_ext::SmoothParams s;
   s.iterations = int(p.at("iterations"));
   const vcg_ext::PlacementMode placements[] = {vcg_ext::PlacementMode::RingBarycentre,
                                                vcg_ext::PlacementMode::PatchPoint,
                                                vcg_ext::PlacementMode::Paper};
-  s.placement = placements[int(p.at("placement"))];
+  // The feature-preserving choice runs its own driver (feature_smooth.h), not a placement.
+  s.placement = placements[std::min(int(p.at("placement")), 2)];
   s.alpha_override = p.at("alpha_override") != 0;
   s.alpha = p.at("alpha");
   s.uniform_variant = p.at("uniform_curvature") == 0 ? vcg_ext::UniformCurvatureVariant::Paper
@@ -204,7 +265,7 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
   const vcg_ext::MeshArrays arrays = vcg_ext::extractArrays(m);
   out.error = detail::rejectMesh(m, arrays);
   for (const auto &check : {detail::checkRange(p, "iterations", 0, 1000),
-                            detail::checkRange(p, "placement", 0, 2),
+                            detail::checkRange(p, "placement", 0, 3),
                             detail::checkRange(p, "alpha", 0, 1),
                             detail::checkRange(p, "uniform_curvature", 0, 1),
                             detail::checkRange(p, "boundary", 0, 3),
@@ -225,25 +286,24 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
 
   std::vector<vcg_ext::Vec3> result;
   vcg_ext::VertexQuantities q;
+  if (int(p.at("placement")) == 3) {
+    vcg_ext::FeatureSmoothParams feature;
+    feature.selected_only = params.selected_only;
+    feature.saliency_scale = params.saliency_scale;
+    const vcg_ext::FeatureSmoothReport r =
+        vcg_ext::featureSmoothMesh(arrays, feature, result, q, detail::progressOf(cb));
+    if (r.cancelled) return out.error = "Cancelled: the mesh is unchanged.", out;
+    const long clamped = detail::storeSmoothingResult(m, arrays, result, q, int(p.at("quality")));
+    out.log = detail::featureLog(r, arrays.points.size());
+    if (clamped > 0) out.log.push_back(detail::clampedLog(clamped));
+    out.ok = true;
+    return out;
+  }
   const vcg_ext::SmoothReport r =
       vcg_ext::smoothMesh(arrays, params, result, q, detail::progressOf(cb));
   if (r.cancelled) return out.error = "Cancelled: the mesh is unchanged.", out;
 
-  vcg_ext::writePositions(m, arrays, result);
-  const std::vector<double> *quantities[] = {&q.saliency, &q.mean, &q.gauss, &q.k1,
-                                             &q.k2,       &q.alpha, &q.displacement};
-  detail::storeQuality(m, arrays, *quantities[int(p.at("quality"))]);
-  long clamped = 0;
-  detail::storeAttribute(m, arrays, "Saliency", q.saliency, clamped);
-  detail::storeAttribute(m, arrays, "MeanCurvature", q.mean, clamped);
-  detail::storeAttribute(m, arrays, "GaussianCurvature", q.gauss, clamped);
-  detail::storeAttribute(m, arrays, "K1", q.k1, clamped);
-  detail::storeAttribute(m, arrays, "K2", q.k2, clamped);
-  detail::storeAttribute(m, arrays, "Alpha", q.alpha, clamped);
-  detail::storeAttribute(m, arrays, "Displacement", q.displacement, clamped);
-  if (vcg::tri::HasPerVertexNormal(m) && vcg::tri::HasPerFaceNormal(m))
-    vcg::tri::UpdateNormal<MeshType>::PerVertexNormalizedPerFaceNormalized(m);
-  vcg::tri::UpdateBounding<MeshType>::Box(m);
+  const long clamped = detail::storeSmoothingResult(m, arrays, result, q, int(p.at("quality")));
 
   out.log.push_back(detail::format("%.0f iterations: %.0f of %.0f vertices moved.",
                                    r.iterations_done, double(r.vertices_moved),
@@ -267,11 +327,7 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
                                    "patch fit + placement %.3f s.",
                                    r.seconds_topology, r.seconds_curvature, r.seconds_saliency,
                                    r.seconds_fit));
-  if (clamped > 0)
-    out.log.push_back(detail::format("%.0f per-vertex values were NaN or beyond the mesh's number "
-                                     "range (a tiny mesh or tiny faces): stored as 0 or the largest "
-                                     "representable value.",
-                                     double(clamped)));
+  if (clamped > 0) out.log.push_back(detail::clampedLog(clamped));
   out.ok = true;
   return out;
 }

@@ -65,7 +65,10 @@ inline std::string filterDescription(FilterId id) {
          "the volume; <i>Patch point</i> projects the vertex onto its patch; <i>Paper (Newton)</i> "
          "is the paper's method as printed: Newton on (u,v) toward the saliency-weighted uniform "
          "principal curvature. Measured, the paper's method distorts meshes (its curvature target "
-         "usually does not exist on the patch); the step limit keeps it local."
+         "usually does not exist on the patch); the step limit keeps it local. "
+         "<i>Feature-preserving (face patches)</i> keeps sharp edges: a short Taubin pre-pass "
+         "(scaled by the measured noise), guided normal filtering (Zhang et al. 2015) and each "
+         "vertex moved onto bi-quadratic patches of its faces (Sun et al. 2007's update)."
          "<br>All vertices of an iteration move at once; non-manifold and isolated vertices and "
          "those of degenerate faces are not moved. Per-vertex attributes <b>Saliency</b>, "
          "<b>K1</b>, <b>K2</b>, <b>MeanCurvature</b>, <b>GaussianCurvature</b>, <b>Alpha</b>, "
@@ -88,8 +91,9 @@ inline const std::vector<ParamSpec> &parameterSpecs(FilterId id) {
       {ParamKind::Enum, "placement", 0, "Placement",
        "Where each vertex goes on its fitted patch: the patch point at its 1-ring barycentre's "
        "parameter, its own patch point, or the paper's Newton solve for the uniform principal "
-       "curvature.",
-       {"Ring barycentre", "Patch point", "Paper (Newton)"}},
+       "curvature. Feature-preserving: guided normal filtering and per-face patches (keeps sharp "
+       "edges; uses only 'Affect only selected vertices' and 'Store in vertex quality').",
+       {"Ring barycentre", "Patch point", "Paper (Newton)", "Feature-preserving (face patches)"}},
       {ParamKind::Bool, "alpha_override", 1, "Override alpha",
        "Use the fixed alpha below everywhere instead of the paper's Saliency_min/Saliency_max "
        "over the neighbourhood (measured: the paper's rule degenerates near zero saliency)."},
