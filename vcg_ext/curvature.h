@@ -34,20 +34,28 @@ struct CurvatureField {       // per vertex, compact order
 };
 
 // Face-area-weighted vertex normals (paper 3.1). Zero where the incident faces have no area.
+// Each face's cross product is computed once, then every vertex gathers its faces' (in face order:
+// the same sums as crossing them per vertex, with a third of the work).
 inline void computeVertexNormals(const std::vector<Vec3> &points, const std::vector<Face> &faces,
                                  const Rings &rings, std::vector<Vec3> &normals) {
-  const int n = rings.vertex_count;
+  const int n = rings.vertex_count, face_count = int(faces.size());
   normals.resize(n);
-#pragma omp parallel for schedule(static)
-  for (int v = 0; v < n; ++v) {
-    Vec3 sum = Vec3::Zero();
-    for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) {
-      const Face &t = faces[*f];
+  std::vector<Vec3> face_cross(face_count);
+#pragma omp parallel
+  {
+#pragma omp for schedule(static)
+    for (int f = 0; f < face_count; ++f) {
+      const Face &t = faces[f];
       // The cross product's length is twice the face area: the weighting comes for free.
-      sum += (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
+      face_cross[f] = (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
     }
-    const double length = sum.norm();
-    normals[v] = (length > 0 && std::isfinite(length)) ? Vec3(sum / length) : Vec3::Zero();
+#pragma omp for schedule(static)
+    for (int v = 0; v < n; ++v) {
+      Vec3 sum = Vec3::Zero();
+      for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) sum += face_cross[*f];
+      const double length = sum.norm();
+      normals[v] = (length > 0 && std::isfinite(length)) ? Vec3(sum / length) : Vec3::Zero();
+    }
   }
 }
 
