@@ -132,7 +132,7 @@ inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<
   std::vector<std::uint8_t> interior_valid(n, 0);
   std::vector<std::uint8_t> degenerate(n, 0);
 
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 2048)
   for (int v = 0; v < n; ++v) {
     const Vec3 &normal = out.normal[v];
     Vec3 t1 = Vec3::Zero(), t2 = Vec3::Zero();
@@ -217,7 +217,9 @@ inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<
   // Boundary vertices: the angle deficit is undefined there, so H, K, k1, k2 are the averages of
   // the interior 1-ring neighbours' values (0 if none), and the directions are the eigenvectors of
   // their averaged anisotropic tensors (k1 − k2) d1 d1ᵀ projected into this tangent plane.
-#pragma omp parallel for schedule(static)
+  const bool any_boundary =
+      std::find(rings.boundary.begin(), rings.boundary.end(), 1) != rings.boundary.end();
+#pragma omp parallel for schedule(dynamic, 2048) if (any_boundary)
   for (int v = 0; v < n; ++v) {
     if (!rings.boundary[v] || rings.nonmanifold[v] || degenerate[v] || out.area[v] == 0) continue;
     double H = 0, K = 0, k1 = 0, k2 = 0;

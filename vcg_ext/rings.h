@@ -57,7 +57,6 @@ void buildCsrInBlocks(int n, std::vector<int> &offsets, std::vector<int> &values
   }
   for (int v = 0; v < n; ++v) offsets[v + 1] += offsets[v];
   values.resize(offsets[n]);
-#pragma omp parallel for schedule(dynamic, 1)
   for (int b = 0; b < blocks; ++b)
     std::copy(buffer[b].begin(), buffer[b].end(), values.begin() + offsets[b * block]);
 }
@@ -88,7 +87,7 @@ inline Rings computeRings(int vertex_count, const std::vector<Face> &faces) {
   r.isolated.assign(n, 0);
   // 1-ring and each edge's face count: the half-edges (f[k], f[k+1]) of v's faces that touch v.
   // An edge used by one face is a boundary edge, by more than two a non-manifold one; each edge is
-  // counted once overall, from its smaller end.
+  // counted once overall, from its smaller end. Then the fan test (isolated and bow-tie vertices).
   // Per block of buildCsrInBlocks (one thread each): edge counts without a shared counter.
   const int blocks = n / detail::kCsrBlock + 1;
   std::vector<long> block_boundary_edges(blocks, 0), block_nonmanifold_edges(blocks, 0);
@@ -115,52 +114,45 @@ inline Rings computeRings(int vertex_count, const std::vector<Face> &faces) {
       out.push_back(w);
       i = j;
     }
+
+    // A manifold vertex's faces form one fan: its link (the edges opposite to it) is one path or
+    // one cycle. Count the link's connected components by repeatedly absorbing faces that share a
+    // neighbour with the growing fan; a second component is a "bow-tie".
+    if (r.facesBegin(v) == r.facesEnd(v)) {
+      r.isolated[v] = 1;
+      return;
+    }
+    thread_local std::vector<int> fan_faces, members;
+    fan_faces.assign(r.facesBegin(v), r.facesEnd(v));
+    members.clear();
+    auto others = [&](int f, int k) {
+      const Face &t = faces[f];
+      return t[0] == v ? (k ? t[2] : t[1]) : t[1] == v ? (k ? t[0] : t[2]) : (k ? t[1] : t[0]);
+    };
+    members.push_back(others(fan_faces.back(), 0));
+    members.push_back(others(fan_faces.back(), 1));
+    fan_faces.pop_back();
+    for (bool grew = true; grew && !fan_faces.empty();) {
+      grew = false;
+      for (size_t k = 0; k < fan_faces.size();) {
+        const int a = others(fan_faces[k], 0), b = others(fan_faces[k], 1);
+        const bool touches = std::find(members.begin(), members.end(), a) != members.end() ||
+                             std::find(members.begin(), members.end(), b) != members.end();
+        if (touches) {
+          members.push_back(a);
+          members.push_back(b);
+          fan_faces[k] = fan_faces.back();
+          fan_faces.pop_back();
+          grew = true;
+        } else {
+          ++k;
+        }
+      }
+    }
+    if (!fan_faces.empty()) r.nonmanifold[v] = 1;
   });
   for (long c : block_boundary_edges) r.boundary_edges += c;
   for (long c : block_nonmanifold_edges) r.nonmanifold_edges += c;
-
-  // A manifold vertex's faces form one fan: its link (the edges opposite to it) is one path or one
-  // cycle. Count the link's connected components by repeatedly absorbing faces that share a
-  // neighbour with the growing fan; a second component is a "bow-tie".
-#pragma omp parallel
-  {
-    std::vector<int> fan_faces, members;
-#pragma omp for schedule(dynamic, 4096)
-    for (int v = 0; v < n; ++v) {
-      const int nf = r.face_offsets[v + 1] - r.face_offsets[v];
-      if (nf == 0) {
-        r.isolated[v] = 1;
-        continue;
-      }
-      fan_faces.assign(r.facesBegin(v), r.facesEnd(v));
-      members.clear();
-      auto others = [&](int f, int k) {
-        const Face &t = faces[f];
-        return t[0] == v ? (k ? t[2] : t[1]) : t[1] == v ? (k ? t[0] : t[2]) : (k ? t[1] : t[0]);
-      };
-      members.push_back(others(fan_faces.back(), 0));
-      members.push_back(others(fan_faces.back(), 1));
-      fan_faces.pop_back();
-      for (bool grew = true; grew && !fan_faces.empty();) {
-        grew = false;
-        for (size_t k = 0; k < fan_faces.size();) {
-          const int a = others(fan_faces[k], 0), b = others(fan_faces[k], 1);
-          const bool touches = std::find(members.begin(), members.end(), a) != members.end() ||
-                               std::find(members.begin(), members.end(), b) != members.end();
-          if (touches) {
-            members.push_back(a);
-            members.push_back(b);
-            fan_faces[k] = fan_faces.back();
-            fan_faces.pop_back();
-            grew = true;
-          } else {
-            ++k;
-          }
-        }
-      }
-      if (!fan_faces.empty()) r.nonmanifold[v] = 1;
-    }
-  }
 
   // 2-ring: union of the neighbours' 1-rings, sorted, without v itself. A non-manifold neighbour is
   // included but not expanded: its 1-ring reaches into other sheets (a fin, a second fan), which

@@ -181,41 +181,30 @@ inline void gaussianMeansAllSigmas(const UniformPointGrid &grid, const Vec3 &p, 
 
 // Non-linear suppression of one scale's S (paper 2.2 after Lee et al.): divided by its maximum and
 // multiplied by (1 − mean of its other 1-ring local maxima)², then added to `saliency`. A scale with
-// one dominant peak keeps its weight, a scale with many comparable peaks is damped. Sums run over
-// fixed blocks in vertex order (thread-count independent).
+// one dominant peak keeps its weight, a scale with many comparable peaks is damped. Serial, in
+// vertex order: a few operations per vertex, less than a parallel region costs on a busy machine.
 inline void addSuppressedScale(const Rings &rings, const std::vector<int> &active,
                                std::vector<double> &s, double half_spread,
                                std::vector<double> &saliency) {
   const int n = rings.vertex_count;
   const double maximum = *std::max_element(s.begin(), s.end());
   if (!(maximum > 1e-12 * half_spread)) return; // rounding only: this scale sees nothing
-#pragma omp parallel for schedule(static)
   for (int v = 0; v < n; ++v) s[v] /= maximum;
   // Near-ties count as maxima on both sides (so the result does not hinge on rounding); a plateau
   // at zero is not a peak.
   const double tie = 1e-12;
-  const int block = 4096, blocks = (int(active.size()) + block - 1) / block;
-  std::vector<double> block_sum(blocks, 0.0);
-  std::vector<int> block_count(blocks, 0);
-#pragma omp parallel for schedule(static)
-  for (int b = 0; b < blocks; ++b) {
-    const int stop = std::min(int(active.size()), (b + 1) * block);
-    for (int a = b * block; a < stop; ++a) {
-      const int v = active[a];
-      if (!(s[v] > tie)) continue;
-      bool is_peak = true;
-      for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v) && is_peak; ++w)
-        is_peak = s[v] >= s[*w] - tie;
-      if (is_peak) block_sum[b] += s[v], ++block_count[b];
-    }
-  }
   double peak_sum = 0;
   long peak_count = 0;
-  for (int b = 0; b < blocks; ++b) peak_sum += block_sum[b], peak_count += block_count[b];
+  for (int v : active) {
+    if (!(s[v] > tie)) continue;
+    bool is_peak = true;
+    for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v) && is_peak; ++w)
+      is_peak = s[v] >= s[*w] - tie;
+    if (is_peak) peak_sum += s[v], ++peak_count;
+  }
   // The global maximum (1 after normalising) is always one of the peaks: leave it out.
   const double other_peaks_mean = peak_count > 1 ? (peak_sum - 1.0) / double(peak_count - 1) : 0.0;
   const double weight = (1.0 - other_peaks_mean) * (1.0 - other_peaks_mean);
-#pragma omp parallel for schedule(static)
   for (int v = 0; v < n; ++v) saliency[v] += weight * s[v];
 }
 
@@ -308,11 +297,7 @@ inline void computeSaliencyImpl(const std::vector<Vec3> &points, const Rings &ri
   std::vector<double> scale_saliency(n, 0.0);
   for (int i = 0; i < kSaliencyScales; ++i) {
     const std::vector<double> &fine = means[kScaleFine[i]], &coarse = means[kScaleCoarse[i]];
-#pragma omp parallel for schedule(static)
-    for (int a = 0; a < int(active.size()); ++a) {
-      const int v = active[a];
-      scale_saliency[v] = std::abs(fine[v] - coarse[v]);
-    }
+    for (int v : active) scale_saliency[v] = std::abs(fine[v] - coarse[v]);
     addSuppressedScale(rings, active, scale_saliency, half_spread, saliency);
     std::vector<double>().swap(means[kScaleFine[i]]); // not needed again
   }

@@ -166,22 +166,24 @@ inline void gatherNode(int x, const int *node_x, const double *sum_weight,
   for (int q = 0; q < 2 * S; ++q) out[q] = acc[q];
 }
 
-// The convolution of one lattice with the truncated Gaussians of `sigmas` (at most 4, all on this
-// lattice): out[node · 2S + 2s + {0, 1}] = Σ_q g_s(q − node) · {sum, weight}[q], sum_weight holding
-// (sum, weight) per node. Every node gathers from the nodes within the largest cut-off (parallel
-// over rows, deterministic).
-inline void convolveLattice(const SparseLattice &lattice, const std::vector<double> &sum_weight,
-                            const std::vector<double> &sigmas, double variance_correction,
-                            std::vector<double> &out) {
-  const int S = int(sigmas.size());
-  const double h = lattice.h;
+// The truncated Gaussians of up to 4 σ on one lattice, sampled at integer offsets:
+// table[((dz+R)·width + dy+R)·width + dx+R][s]. At exactly the cut-off radius half the weight (a
+// node on the sphere is half inside).
+struct LatticeKernel {
+  int S = 0, R = 0, width = 1;
+  std::vector<double> table;
+};
+
+inline LatticeKernel latticeKernel(double h, const std::vector<double> &sigmas,
+                                   double variance_correction) {
+  LatticeKernel k;
+  k.S = int(sigmas.size());
   double reach = 0;
   for (double sigma : sigmas) reach = std::max(reach, 2 * sigma / h);
-  const int R = int(std::floor(reach + 1e-9));
-  const int width = 2 * R + 1;
-  // table[((dz+R)·width + dy+R)·width + dx+R][s]; at exactly the cut-off radius half the weight
-  // (a node on the sphere is half inside).
-  std::vector<double> table(size_t(width) * width * width * S, 0.0);
+  k.R = int(std::floor(reach + 1e-9));
+  k.width = 2 * k.R + 1;
+  const int R = k.R, width = k.width, S = k.S;
+  k.table.assign(size_t(width) * width * width * S, 0.0);
   for (int s = 0; s < S; ++s) {
     const double cutoff2 = 4 * sigmas[s] * sigmas[s] / (h * h);
     const double sigma2 = std::max(sigmas[s] * sigmas[s] - variance_correction * h * h / 3,
@@ -191,49 +193,55 @@ inline void convolveLattice(const SparseLattice &lattice, const std::vector<doub
         for (int dx = -R; dx <= R; ++dx) {
           const double d2 = dx * dx + dy * dy + dz * dz;
           const double edge = std::abs(d2 - cutoff2) < 1e-9 * cutoff2 ? 0.5 : d2 < cutoff2 ? 1 : 0;
-          table[((size_t(dz + R) * width + (dy + R)) * width + (dx + R)) * S + s] =
+          k.table[((size_t(dz + R) * width + (dy + R)) * width + (dx + R)) * S + s] =
               edge * std::exp(-d2 * h * h / (2 * sigma2));
         }
   }
+  return k;
+}
 
-  const int n = lattice.size(), row_count = int(lattice.row_key.size());
+// The convolution of one lattice with a kernel: out[node · 2S + 2s + {0, 1}] (sized by the caller)
+// = Σ_q g_s(q − node) · {sum, weight}[q], sum_weight holding (sum, weight) per node. Every node
+// gathers from the nodes within the cut-off (deterministic). Call it inside a parallel region: it
+// shares the rows among the threads without waiting at the end (`nowait`), so the lattices of a
+// chain are convolved in one region.
+inline void convolveLatticeRows(const SparseLattice &lattice, const LatticeKernel &kernel,
+                                const std::vector<double> &sum_weight, std::vector<double> &out) {
+  const int R = kernel.R, width = kernel.width, S = kernel.S;
+  const int row_count = int(lattice.row_key.size());
   const std::uint64_t ny = lattice.ny;
-  out.assign(size_t(n) * 2 * S, 0.0);
-#pragma omp parallel
-  {
-    std::vector<LatticeSourceRow> sources;
-    sources.reserve(size_t(width) * width);
-#pragma omp for schedule(dynamic, 16)
-    for (int r = 0; r < row_count; ++r) {
-      const std::int64_t j = std::int64_t(lattice.row_key[r] % ny),
-                         l = std::int64_t(lattice.row_key[r] / ny);
-      sources.clear();
-      // For each dz the rows (j − R … j + R, l + dz) are one run of the sorted row keys.
-      for (int dz = -R; dz <= R; ++dz) {
-        if (l + dz < 0) continue;
-        const std::uint64_t base = std::uint64_t((l + dz) * std::int64_t(ny));
-        const std::uint64_t first = base + std::uint64_t(std::max<std::int64_t>(j - R, 0)),
-                            last = base + std::uint64_t(j + R);
-        // (`last` may run into the next plane's rows: those end the run.)
-        for (auto it = std::lower_bound(lattice.row_key.begin(), lattice.row_key.end(), first);
-             it != lattice.row_key.end() && *it <= last && *it - base < ny; ++it) {
-          const int dy = int(std::int64_t(*it - base) - j), d2 = dy * dy + dz * dz;
-          if (d2 > R * R) continue;
-          const int index = int(it - lattice.row_key.begin());
-          sources.push_back({lattice.row_start[index], lattice.row_start[index + 1],
-                             int(std::sqrt(double(R * R - d2)) + 1e-9),
-                             &table[((size_t(dz + R) * width + (dy + R)) * width + R) * S]});
-        }
+  std::vector<LatticeSourceRow> sources;
+  sources.reserve(size_t(width) * width);
+#pragma omp for schedule(dynamic, 16) nowait
+  for (int r = 0; r < row_count; ++r) {
+    const std::int64_t j = std::int64_t(lattice.row_key[r] % ny),
+                       l = std::int64_t(lattice.row_key[r] / ny);
+    sources.clear();
+    // For each dz the rows (j − R … j + R, l + dz) are one run of the sorted row keys.
+    for (int dz = -R; dz <= R; ++dz) {
+      if (l + dz < 0) continue;
+      const std::uint64_t base = std::uint64_t((l + dz) * std::int64_t(ny));
+      const std::uint64_t first = base + std::uint64_t(std::max<std::int64_t>(j - R, 0)),
+                          last = base + std::uint64_t(j + R);
+      // (`last` may run into the next plane's rows: those end the run.)
+      for (auto it = std::lower_bound(lattice.row_key.begin(), lattice.row_key.end(), first);
+           it != lattice.row_key.end() && *it <= last && *it - base < ny; ++it) {
+        const int dy = int(std::int64_t(*it - base) - j), d2 = dy * dy + dz * dz;
+        if (d2 > R * R) continue;
+        const int index = int(it - lattice.row_key.begin());
+        sources.push_back({lattice.row_start[index], lattice.row_start[index + 1],
+                           int(std::sqrt(double(R * R - d2)) + 1e-9),
+                           &kernel.table[((size_t(dz + R) * width + (dy + R)) * width + R) * S]});
       }
-      for (int t = lattice.row_start[r]; t < lattice.row_start[r + 1]; ++t) {
-        double *o = &out[size_t(t) * 2 * S];
-        const int x = lattice.x[t];
-        switch (S) {
-        case 1: gatherNode<1>(x, lattice.x.data(), sum_weight.data(), sources, o); break;
-        case 2: gatherNode<2>(x, lattice.x.data(), sum_weight.data(), sources, o); break;
-        case 3: gatherNode<3>(x, lattice.x.data(), sum_weight.data(), sources, o); break;
-        default: gatherNode<4>(x, lattice.x.data(), sum_weight.data(), sources, o); break;
-        }
+    }
+    for (int t = lattice.row_start[r]; t < lattice.row_start[r + 1]; ++t) {
+      double *o = &out[size_t(t) * 2 * S];
+      const int x = lattice.x[t];
+      switch (S) {
+      case 1: gatherNode<1>(x, lattice.x.data(), sum_weight.data(), sources, o); break;
+      case 2: gatherNode<2>(x, lattice.x.data(), sum_weight.data(), sources, o); break;
+      case 3: gatherNode<3>(x, lattice.x.data(), sum_weight.data(), sources, o); break;
+      default: gatherNode<4>(x, lattice.x.data(), sum_weight.data(), sources, o); break;
       }
     }
   }
@@ -273,7 +281,6 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
   // Cells of the finest lattice holding points; the points grouped by cell (in array order within
   // a cell, so the sums below do not depend on the thread count).
   std::vector<std::uint64_t> vertex_key(m);
-#pragma omp parallel for schedule(static)
   for (int a = 0; a < m; ++a) {
     const Vec3 g = (points[a].position() - origin) / base.h;
     vertex_key[a] =
@@ -392,22 +399,29 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
       if (level[s] == L) slot_sigma.push_back(s);
   }
   first_slot[levels] = S;
-  std::vector<double> coarser, own;
-  for (int L = levels - 1; L >= 0; --L) {
-    const int own_count = first_slot[L + 1] - first_slot[L], below = S - first_slot[L + 1];
+  // All lattices of the chain convolved in one parallel region.
+  std::vector<std::vector<double>> own(levels);
+  std::vector<LatticeKernel> kernels(levels);
+  for (int L = 0; L < levels; ++L) {
     std::vector<double> level_sigmas;
     for (int slot = first_slot[L]; slot < first_slot[L + 1]; ++slot)
       level_sigmas.push_back(sigmas[slot_sigma[slot]]);
-    own.clear();
-    if (own_count > 0)
-      convolveLattice(lattice[L], splat[L], level_sigmas, options.variance_correction, own);
+    if (level_sigmas.empty()) continue;
+    kernels[L] = latticeKernel(lattice[L].h, level_sigmas, options.variance_correction);
+    own[L].assign(size_t(lattice[L].size()) * 2 * level_sigmas.size(), 0.0);
+  }
+#pragma omp parallel
+  for (int L = 0; L < levels; ++L)
+    if (kernels[L].S > 0) convolveLatticeRows(lattice[L], kernels[L], splat[L], own[L]);
+  std::vector<double> coarser;
+  for (int L = levels - 1; L >= 0; --L) {
+    const int own_count = first_slot[L + 1] - first_slot[L], below = S - first_slot[L + 1];
     std::vector<double>().swap(splat[L]);
     const int width = 2 * (own_count + below), n = lattice[L].size();
     std::vector<double> result(size_t(n) * width, 0.0);
-#pragma omp parallel for schedule(static)
     for (int p = 0; p < n; ++p) {
       double *r = &result[size_t(p) * width];
-      for (int q = 0; q < 2 * own_count; ++q) r[q] = own[size_t(p) * 2 * own_count + q];
+      for (int q = 0; q < 2 * own_count; ++q) r[q] = own[L][size_t(p) * 2 * own_count + q];
       if (below == 0) continue;
       // Trilinear interpolation of the coarser lattice at this node.
       const double w = parent_weight[L + 1][p];
@@ -418,6 +432,7 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
       }
     }
     coarser.swap(result);
+    std::vector<double>().swap(own[L]);
     if (L + 1 < levels) {
       std::vector<std::array<int, 8>>().swap(parents[L + 1]);
       std::vector<double>().swap(parent_weight[L + 1]);
