@@ -9,3 +9,4 @@ echo "== unit tests (ctest)"
 (cd "$build" && ctest --output-on-failure -j"$(nproc)")
 echo "== end-to-end tests (pytest: meshlabserver, PyMeshLab)"
 SBS_BUILD_DIR="$build" "$top/.venv/bin/python" -m pytest -q "$top/tests/e2e"
+bash "$top/scripts/test_sanitizers.sh"  # ASan + UBSan unit tests, 60 s of fuzzing (docs/ROBUSTNESS.md)
