@@ -208,9 +208,9 @@ inline std::vector<std::string> featureLog(const vcg_ext::FeatureSmoothReport &r
   std::vector<std::string> log;
   log.push_back(format("Feature-preserving mode, %.0f passes: %.0f of %.0f vertices moved.",
                        r.outer_iterations_done, double(r.vertices_moved), double(vertices)));
-  log.push_back(format("Noise estimate (median dihedral angle) %.1f deg: %.0f Taubin pre-pass "
-                       "pairs.",
-                       r.median_dihedral_deg, r.prepass_pairs));
+  log.push_back(format("Noise estimate (dihedral spread) %.1f deg, roughness %.2f: %.0f Taubin "
+                       "pre-pass pairs, %.0f normal filter iterations per pass.",
+                       r.dihedral_spread_deg, r.roughness, r.prepass_pairs, r.normal_iterations));
   if (r.frozen_vertices > 0)
     log.push_back(format("Skipped (left in place): %.0f non-manifold, isolated or on degenerate "
                          "faces.",

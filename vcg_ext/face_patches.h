@@ -26,6 +26,7 @@ struct FacePatch {
   Vec3 origin = Vec3::Zero(), e1 = Vec3::UnitX(), e2 = Vec3::UnitY(), normal = Vec3::UnitZ();
   double unit = 1;                                      // length of one local unit (mean edge)
   HeightCoefficients c = HeightCoefficients::Zero();    // zero: the plane (Sun's update)
+  bool curved = false;                                  // c was fitted (else the plane)
 
   // The height basis x^a y^b, index 3a + b, and its x and y derivatives.
   static HeightCoefficients basis(double x, double y) {
@@ -48,8 +49,9 @@ struct FacePatch {
   // Where the patch is, measured along the normal from `p`'s foot point: p moved onto the patch.
   Vec3 projectAlongNormal(const Vec3 &p) const {
     const Vec3 d = (p - origin) / unit;
-    const double x = d.dot(e1), y = d.dot(e2), z = d.dot(normal);
-    return p + normal * ((basis(x, y).dot(c) - z) * unit);
+    const double z = d.dot(normal);
+    const double height = curved ? basis(d.dot(e1), d.dot(e2)).dot(c) : 0.0;
+    return p + normal * ((height - z) * unit);
   }
 };
 
@@ -108,6 +110,7 @@ inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vect
   out.origin = geometry.centroid[f];
   out.unit = mean_edge;
   out.c.setZero();
+  out.curved = false;
   out.normal = n; // a zero normal makes the patch a no-op in the vertex update
   if (!(n.squaredNorm() > 0.5)) return false;
   // Any tangent frame serves (the fit is rotation invariant); take the one least aligned with n.
@@ -123,7 +126,7 @@ inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vect
   for (const int *g = face_rings.begin(f); g != face_rings.end(f); ++g) {
     const Vec3 &m = filtered[*g];
     const double w =
-        geometry.area[*g] / mean_area * std::exp(range * (n - m).squaredNorm());
+        geometry.area[*g] / mean_area * rangeKernel(range * (n - m).squaredNorm());
     if (!(w > 1e-12)) continue;
     // Face g's data are its centroid height and its normal, i.e. its plane. The patch is asked to
     // reproduce that plane where it interpolates g's corners (the mean of the patch at the corners,
@@ -164,6 +167,7 @@ inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vect
   const HeightCoefficients c = ldlt.solve(rhs);
   if (!c.allFinite()) return false;
   out.c = c;
+  out.curved = true;
   return true;
 }
 

@@ -2,8 +2,8 @@
 // filtering of the face normals.
 //
 // Inputs: positions, triangles, Rings (stage 0). Outputs, per face in input order: unit normal,
-// area, centroid, face rings; the filtered unit normals; a noise estimate (the median dihedral
-// angle); the pre-smoothed positions. Papers: Taubin 1995
+// area, centroid, face rings; the filtered unit normals; a noise estimate (the spread of dihedral
+// angles); the pre-smoothed positions. Papers: Taubin 1995
 // (λ|μ smoothing), Zheng, Fu, Au, Tai 2011 (bilateral normal filtering), Zhang, Deng, Zhang,
 // Bouaziz, Liu 2015 (guided mesh normal filtering, GNF). Lengths are in mean edge lengths so the
 // defaults hold for any mesh scale.
@@ -22,6 +22,14 @@
 #include <cstdint>
 
 namespace vcg_ext {
+
+// The Gaussian range kernel exp(x), x <= 0. Most pairs of neighbouring faces differ by a few
+// degrees (x > −0.5), where a degree-6 Taylor polynomial is within 2e-6 of exp and much cheaper
+// than std::exp (which took a seventh of the mode's time on the bunny).
+inline double rangeKernel(double x) {
+  if (x < -0.5) return std::exp(x);
+  return 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6 + x * (1.0 / 24 + x * (1.0 / 120 + x / 720)))));
+}
 
 struct FaceGeometry {
   std::vector<Vec3> normal;   // unit; zero for a degenerate face
@@ -85,22 +93,36 @@ inline FaceRings computeFaceRings(const std::vector<Face> &faces, const Rings &r
   return r;
 }
 
-// The median angle between the normals of edge-adjacent faces, in degrees: a noise estimate that
-// needs no reference. Clean meshes measure 0 (CAD: flat sides, creases are few) to ~10 (coarse
-// organic meshes: armadillo, elephant); the public benchmark's noisy meshes 20-30, noise in random
-// directions at 0.25 mean edge lengths 34-42.
-inline double medianDihedralDeg(const FaceGeometry &geometry, const FaceRings &face_rings) {
-  std::vector<double> angles;
-  angles.reserve(face_rings.edge_neighbours.size() * 3 / 2);
-  for (int f = 0; f < int(face_rings.edge_neighbours.size()); ++f)
-    for (int g : face_rings.edge_neighbours[f]) {
-      const Vec3 &a = geometry.normal[f], &b = geometry.normal[g < 0 ? f : g];
-      if (g > f && a.squaredNorm() > 0.5 && b.squaredNorm() > 0.5)
-        angles.push_back(std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI);
+// A noise estimate that needs no reference and tells noise from curvature: per face, the spread
+// (largest minus smallest) of the signed dihedral angles across its three edges, in degrees; the
+// median over the faces. Curvature bends a face's edges alike (a sphere: all about equal), noise
+// bends them at random, convex and concave. Measured: clean meshes 0 (CAD) to 31 (the coarse
+// elephant), the public benchmark's noisy meshes 52-81, noise in random directions at 0.25 mean
+// edge lengths 88-112.
+inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
+                                      const std::vector<Face> &faces,
+                                      const FaceGeometry &geometry, const FaceRings &face_rings) {
+  std::vector<double> spreads;
+  spreads.reserve(faces.size());
+  for (int f = 0; f < int(faces.size()); ++f) {
+    double lo = INFINITY, hi = -INFINITY;
+    bool complete = geometry.normal[f].squaredNorm() > 0.5;
+    for (int k = 0; k < 3 && complete; ++k) {
+      const int g = face_rings.edge_neighbours[f][k];
+      complete = g >= 0 && geometry.normal[g].squaredNorm() > 0.5;
+      if (!complete) break;
+      // Positive where the surface turns away from f's normal across the edge (convex).
+      const Vec3 edge = (points[faces[f][(k + 1) % 3]] - points[faces[f][k]]).normalized();
+      const Vec3 &a = geometry.normal[f], &b = geometry.normal[g];
+      const double angle = std::atan2(a.cross(b).dot(edge), a.dot(b)) * 180.0 / M_PI;
+      lo = std::min(lo, angle);
+      hi = std::max(hi, angle);
     }
-  if (angles.empty()) return 0.0;
-  auto middle = angles.begin() + angles.size() / 2;
-  std::nth_element(angles.begin(), middle, angles.end());
+    if (complete) spreads.push_back(hi - lo);
+  }
+  if (spreads.empty()) return 0.0;
+  auto middle = spreads.begin() + spreads.size() / 2;
+  std::nth_element(spreads.begin(), middle, spreads.end());
   return *middle;
 }
 
@@ -226,7 +248,7 @@ inline void filterNormals(const std::vector<Face> &faces, const FaceRings &face_
       for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k) {
         const int g = face_rings.faces[k];
         const double dr = (kernel_normals[f] - kernel_normals[g]).squaredNorm();
-        sum += spatial_weight[k] * std::exp(range * dr) * out[g];
+        sum += spatial_weight[k] * rangeKernel(range * dr) * out[g];
       }
       const double len = sum.norm();
       next[f] = len > 0 && std::isfinite(len) ? Vec3(sum / len) : out[f];

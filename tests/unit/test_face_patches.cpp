@@ -26,7 +26,7 @@ struct PatchSetup {
     for (size_t f = 0; f < mesh.faces.size(); ++f) {
       fitFacePatch(int(f), mesh.points, mesh.faces, face_rings, geometry, normals, mean_area, edge,
                    FacePatchParams(), out[f]);
-      if (planes) out[f].c.setZero();
+      if (planes) out[f].c.setZero(), out[f].curved = false;
     }
     return out;
   }

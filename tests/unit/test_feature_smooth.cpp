@@ -55,6 +55,7 @@ TEST(FeatureSmooth, NoisyBoxKeepsItsEdgesBetterThanTheRingBarycentreMode) {
   const NormalDeviation after = deviation(out, clean);
   const NormalDeviation other = deviation(ring_barycentre, clean);
   ASSERT_GT(before.sharp_faces, 100); // the box's 12 edges
+  EXPECT_EQ(report.roughness, 1.0);    // 0.3 mean edge lengths of noise: full smoothing
   EXPECT_GT(before.theta_sharp_deg, 15.0);
   EXPECT_LT(after.theta_sharp_deg, 0.25 * before.theta_sharp_deg);
   EXPECT_LT(after.theta_sharp_deg, 0.5 * other.theta_sharp_deg);
@@ -72,7 +73,8 @@ TEST(FeatureSmooth, CleanBoxAndSphereStayAlmostUntouched) {
        {test_meshes::box(1.0, 0.8, 0.6, 16), test_meshes::icosphere(1.0, 4)}) {
     FeatureSmoothReport report;
     const std::vector<Vec3> out = featureSmoothed(clean, FeatureSmoothParams(), &report);
-    EXPECT_LT(report.median_dihedral_deg, 10.0); // clean: no pre-pass
+    EXPECT_LT(report.dihedral_spread_deg, 32.0); // measured clean: no smoothing passes
+    EXPECT_EQ(report.roughness, 0.0);
     EXPECT_EQ(report.prepass_pairs, 0);
     EXPECT_LT(deviation(out, clean).theta_deg, 1.0);
     EXPECT_NEAR(report.volume_after / report.volume_before, 1.0, 0.005);
@@ -151,7 +153,8 @@ TEST(FeatureSmooth, OpenBoundaryStaysInPlace) {
 }
 
 TEST(FeatureSmooth, SameResultForOneAndTwoThreadsAndPermutedVertices) {
-  const MeshArrays noisy = withNormalNoise(test_meshes::box(1.0, 0.8, 0.6, 10), 0.03, 4);
+  const MeshArrays box = test_meshes::box(1.0, 0.8, 0.6, 10);
+  const MeshArrays noisy = withNormalNoise(box, 0.3 * meanEdge(box), 4);
   const int threads = omp_get_max_threads();
   omp_set_num_threads(1);
   const std::vector<Vec3> one = featureSmoothed(noisy);
@@ -170,7 +173,8 @@ TEST(FeatureSmooth, SameResultForOneAndTwoThreadsAndPermutedVertices) {
 }
 
 TEST(FeatureSmooth, FrozenVerticesAndInputStayAndCancelStops) {
-  MeshArrays noisy = withNormalNoise(test_meshes::icosphere(1.0, 3), 0.02, 6);
+  const MeshArrays sphere = test_meshes::icosphere(1.0, 3);
+  MeshArrays noisy = withNormalNoise(sphere, 0.3 * meanEdge(sphere), 6);
   noisy.points.push_back(Vec3(5, 5, 5)); // isolated: referenced by no face
   const MeshArrays copy = noisy;
   FeatureSmoothReport report;
@@ -190,7 +194,8 @@ TEST(FeatureSmooth, FrozenVerticesAndInputStayAndCancelStops) {
 }
 
 TEST(FeatureSmooth, SelectedOnlyMovesOnlySelectedVertices) {
-  MeshArrays noisy = withNormalNoise(test_meshes::icosphere(1.0, 3), 0.02, 7);
+  const MeshArrays sphere = test_meshes::icosphere(1.0, 3);
+  MeshArrays noisy = withNormalNoise(sphere, 0.3 * meanEdge(sphere), 7);
   for (size_t i = 0; i < noisy.points.size(); ++i) noisy.selected[i] = noisy.points[i].z() > 0;
   FeatureSmoothParams params;
   params.selected_only = true;
