@@ -41,7 +41,7 @@ inline void computeVertexNormals(const std::vector<Vec3> &points, const std::vec
   const int n = rings.vertex_count, face_count = int(faces.size());
   normals.resize(n);
   std::vector<Vec3> face_cross(face_count);
-#pragma omp parallel
+#pragma omp parallel if (n >= min_parallel_vertices)
   {
 #pragma omp for schedule(static)
     for (int f = 0; f < face_count; ++f) {
@@ -132,7 +132,7 @@ inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<
   std::vector<std::uint8_t> interior_valid(n, 0);
   std::vector<std::uint8_t> degenerate(n, 0);
 
-#pragma omp parallel for schedule(dynamic, 2048)
+#pragma omp parallel for schedule(dynamic, 2048) if (n >= min_parallel_vertices)
   for (int v = 0; v < n; ++v) {
     const Vec3 &normal = out.normal[v];
     Vec3 t1 = Vec3::Zero(), t2 = Vec3::Zero();
@@ -219,7 +219,7 @@ inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<
   // their averaged anisotropic tensors (k1 − k2) d1 d1ᵀ projected into this tangent plane.
   const bool any_boundary =
       std::find(rings.boundary.begin(), rings.boundary.end(), 1) != rings.boundary.end();
-#pragma omp parallel for schedule(dynamic, 2048) if (any_boundary)
+#pragma omp parallel for schedule(dynamic, 2048) if (any_boundary && n >= min_parallel_vertices)
   for (int v = 0; v < n; ++v) {
     if (!rings.boundary[v] || rings.nonmanifold[v] || degenerate[v] || out.area[v] == 0) continue;
     double H = 0, K = 0, k1 = 0, k2 = 0;

@@ -21,7 +21,7 @@
 // and bench/PERFORMANCE.md.
 #pragma once
 
-#include "mesh_arrays.h"
+#include "rings.h" // min_parallel_vertices
 
 #include <algorithm>
 #include <array>
@@ -328,7 +328,7 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
 
   // Splat: each cell's share of its 8 corners (parallel), then the cells into the nodes (serial).
   std::vector<std::array<double, 16>> cell_splat(cell_count);
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) if (m >= min_parallel_vertices)
   for (int c = 0; c < cell_count; ++c) {
     std::array<double, 16> acc{};
     for (int i = cell_start[c]; i < cell_start[c + 1]; ++i) {
@@ -410,7 +410,7 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
     kernels[L] = latticeKernel(lattice[L].h, level_sigmas, options.variance_correction);
     own[L].assign(size_t(lattice[L].size()) * 2 * level_sigmas.size(), 0.0);
   }
-#pragma omp parallel
+#pragma omp parallel if (m >= min_parallel_vertices)
   for (int L = 0; L < levels; ++L)
     if (kernels[L].S > 0) convolveLatticeRows(lattice[L], kernels[L], splat[L], own[L]);
   std::vector<double> coarser;
@@ -441,7 +441,7 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
 
   // Slice (parallel over cells: a cell's vertices share its corners).
   for (int s = 0; s < S; ++s) means[s].resize(m);
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) if (m >= min_parallel_vertices)
   for (int c = 0; c < cell_count; ++c) {
     for (int i = cell_start[c]; i < cell_start[c + 1]; ++i) {
       const int a = cell_vertices[i];

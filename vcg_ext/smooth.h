@@ -382,7 +382,8 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
     for (int start = 0; start < n; start += block) {
       const int stop = std::min(n, start + block);
       long fold_fallbacks = 0, fold_skips = 0, fit_failures = 0, newton_failures = 0, rejected = 0;
-#pragma omp parallel reduction(+ : fold_fallbacks, fold_skips, fit_failures, newton_failures, rejected)
+#pragma omp parallel reduction(+ : fold_fallbacks, fold_skips, fit_failures, newton_failures, rejected) \
+    if (n >= min_parallel_vertices)
       {
         NeighbourhoodScratch scratch;
         scratch.reserve(64);

@@ -10,6 +10,10 @@ using namespace vcg_ext;
 
 namespace {
 
+// Every unit test runs in this one binary: let all of them, whatever their mesh size, go through
+// the parallel paths, so that the thread-count tests compare one thread with two for real.
+[[maybe_unused]] const bool parallel_everywhere = (min_parallel_vertices = 0, true);
+
 std::vector<double> sigmasOf(double epsilon) {
   std::vector<double> s;
   for (int k : detail::kSaliencySigmas) s.push_back(k * epsilon);
