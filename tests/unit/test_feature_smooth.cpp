@@ -73,7 +73,7 @@ TEST(FeatureSmooth, CleanBoxAndSphereStayAlmostUntouched) {
        {test_meshes::box(1.0, 0.8, 0.6, 16), test_meshes::icosphere(1.0, 4)}) {
     FeatureSmoothReport report;
     const std::vector<Vec3> out = featureSmoothed(clean, FeatureSmoothParams(), &report);
-    EXPECT_LT(report.dihedral_spread_deg, 32.0); // measured clean: no smoothing passes
+    EXPECT_LT(report.dihedral_spread_deg, 32.0); // measures clean: no smoothing passes
     EXPECT_EQ(report.roughness, 0.0);
     EXPECT_EQ(report.prepass_pairs, 0);
     EXPECT_LT(deviation(out, clean).theta_deg, 1.0);
@@ -206,4 +206,26 @@ TEST(FeatureSmooth, SelectedOnlyMovesOnlySelectedVertices) {
     else moved += out[i] != noisy.points[i];
   }
   EXPECT_GT(moved, long(out.size() / 3));
+}
+
+TEST(FeatureSmooth, NoiseEstimateScalesTheSmoothing) {
+  // The passes scale with the measured roughness: faint noise counts as clean (the price of leaving
+  // clean coarse meshes alone), moderate noise gets part of the passes, strong noise all of them.
+  const MeshArrays clean = test_meshes::box(1.0, 0.8, 0.6, 16);
+  const double edge = meanEdge(clean);
+  FeatureSmoothReport faint, moderate, strong;
+  const MeshArrays faint_noise = withNormalNoise(clean, 0.05 * edge, 21);
+  EXPECT_EQ(featureSmoothed(faint_noise, FeatureSmoothParams(), &faint), faint_noise.points);
+  EXPECT_EQ(faint.roughness, 0.0);
+  const MeshArrays moderate_noise = withNormalNoise(clean, 0.16 * edge, 22);
+  const std::vector<Vec3> out = featureSmoothed(moderate_noise, FeatureSmoothParams(), &moderate);
+  EXPECT_GT(moderate.roughness, 0.1);
+  EXPECT_LT(moderate.roughness, 0.9);
+  EXPECT_GT(moderate.normal_iterations, 0);
+  EXPECT_LT(moderate.normal_iterations, FeatureSmoothParams().normals.iterations);
+  EXPECT_LT(deviation(out, clean).theta_deg, 0.5 * deviation(moderate_noise.points, clean).theta_deg);
+  featureSmoothed(withNormalNoise(clean, 0.3 * edge, 23), FeatureSmoothParams(), &strong);
+  EXPECT_EQ(strong.roughness, 1.0);
+  EXPECT_LT(faint.dihedral_spread_deg, moderate.dihedral_spread_deg);
+  EXPECT_LT(moderate.dihedral_spread_deg, strong.dihedral_spread_deg);
 }
