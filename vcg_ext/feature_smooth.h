@@ -174,7 +174,7 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
     computeFaceGeometry(current, mesh.faces, geometry);
     filterNormals(mesh.faces, face_rings, geometry, normal_filter, edge, filtered);
     if (params.tangential > 0) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
       for (int v = 0; v < n; ++v)
         tangent_projector[v] = rings.boundary[v] || fixed[v]
                                    ? Eigen::Matrix3d::Zero()
@@ -192,7 +192,7 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
       double mean_area = 0;
       for (double a : geometry.area) mean_area += a / face_count;
       long fallbacks = 0, rejected = 0;
-#pragma omp parallel for schedule(static) reduction(+ : fallbacks)
+#pragma omp parallel for schedule(static) reduction(+ : fallbacks) if (face_count >= min_parallel_vertices)
       for (int f = 0; f < face_count; ++f) {
         if (use_patches) {
           fallbacks += !fitFacePatch(f, current, mesh.faces, face_rings, geometry, filtered,
@@ -209,7 +209,7 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
       // Folds: faces whose normal is far from their filtered normal; the relaxation works around
       // them only, so a clean or unfolded mesh keeps its triangulation.
       if (params.tangential > 0 && params.relax_rings >= 0) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
         for (int v = 0; v < n; ++v) {
           std::uint8_t near = 0;
           for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v) && !near; ++f)
@@ -217,7 +217,7 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
           relax[v] = near;
         }
         for (int ring = 0; ring < params.relax_rings; ++ring) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
           for (int v = 0; v < n; ++v) {
             std::uint8_t near = relax[v];
             for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v) && !near; ++w)
@@ -227,7 +227,7 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
           relax.swap(relax_next);
         }
       }
-#pragma omp parallel for schedule(static) reduction(+ : rejected)
+#pragma omp parallel for schedule(static) reduction(+ : rejected) if (n >= min_parallel_vertices)
       for (int v = 0; v < n; ++v) {
         next[v] = current[v];
         if (fixed[v] || rings.ring1Size(v) == 0) continue;

@@ -43,7 +43,7 @@ inline void computeFaceGeometry(const std::vector<Vec3> &points, const std::vect
   out.normal.resize(m);
   out.area.resize(m);
   out.centroid.resize(m);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
   for (int f = 0; f < m; ++f) {
     const Vec3 &a = points[faces[f][0]], &b = points[faces[f][1]], &c = points[faces[f][2]];
     const Vec3 cross = (b - a).cross(c - a);
@@ -138,7 +138,7 @@ inline void taubinSmooth(std::vector<Vec3> &points, const Rings &rings,
   std::vector<Vec3> next(points);
   for (int step = 0; step < 2 * pairs; ++step) {
     const double factor = step % 2 == 0 ? lambda : mu;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
     for (int v = 0; v < n; ++v) {
       next[v] = points[v];
       if (fixed[v] || rings.ring1Size(v) == 0) continue;
@@ -212,7 +212,7 @@ inline void filterNormals(const std::vector<Face> &faces, const FaceRings &face_
   std::vector<double> spatial_weight(face_rings.faces.size());
   const double spatial = -0.5 / std::pow(params.sigma_s * mean_edge, 2);
   const double range = -0.5 / (params.sigma_r * params.sigma_r);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
   for (int f = 0; f < m; ++f)
     for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k) {
       const int g = face_rings.faces[k];
@@ -224,13 +224,13 @@ inline void filterNormals(const std::vector<Face> &faces, const FaceRings &face_
     }
   for (int it = 0; it < params.iterations; ++it) {
     if (params.kind == NormalFilterKind::Guided && it % std::max(1, params.guidance_every) == 0) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
       for (int f = 0; f < m; ++f)
         detail::patchConsistency(f, face_rings, out, geometry.area, consistency[f],
                                  patch_normal[f]);
       // Each face takes the mean normal of the most consistent patch that contains it; the
       // lowest face index breaks ties so the choice does not depend on the order of the scan.
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
       for (int f = 0; f < m; ++f) {
         int best = f;
         for (const int *g = face_rings.begin(f); g != face_rings.end(f); ++g)
@@ -242,7 +242,7 @@ inline void filterNormals(const std::vector<Face> &faces, const FaceRings &face_
     }
     const std::vector<Vec3> &kernel_normals =
         params.kind == NormalFilterKind::Guided ? guidance : out;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
     for (int f = 0; f < m; ++f) {
       Vec3 sum = Vec3::Zero();
       for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k) {
