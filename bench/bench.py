@@ -42,7 +42,13 @@ NOISE_SEED = 20090601  # fixed: every run makes the same noisy meshes
 CGAL_CASES = ["armadillo", "lion-head", "elephant-with-holes", "three_peaks"]
 CGAL_NOISE = [0.1, 0.2, 0.3]
 # Timing meshes: (label, libcgal-demo mesh, midpoint subdivisions) -> ~10k, ~100k, ~1M vertices.
-TIMING_MESHES = [("10k", "camel", 0), ("100k", "armadillo", 1), ("1M", "fandisk_large", 3)]
+# Issue 7's sizes are 104k and 1.66M; the armadillo at every subdivision level gives the log-log
+# growth from 26k to 1.66M on one shape.
+TIMING_MESHES = [("10k", "camel", 0), ("26k", "armadillo", 0), ("104k", "armadillo", 1),
+                 ("416k", "armadillo", 2), ("1.66M", "armadillo", 3)]
+# Issue 7's targets: whole meshlabserver process vs Taubin x10 and TwoStep in the same run; peak
+# memory vs a load+save-only run.
+TARGET_TAUBIN_RATIO, TARGET_TWOSTEP_RATIO, TARGET_RSS_RATIO = 2.0, 0.2, 1.5
 
 # MeshLab 2020.09 filter_unsharp: every parameter of each filter (meshlabserver asserts on a
 # missing one), names and defaults from src/meshlabplugins/filter_unsharp/filter_unsharp.cpp.
@@ -58,8 +64,10 @@ PEER_SWEEP = {
 # Timing settings (issue 4): Laplacian x5 (the paper's comparison), the others at defaults.
 PEER_TIMING = {"Laplacian": {"steps": 5}, "HC Laplacian": {"repeat": 1},
                "Taubin": {"steps": 10}, "TwoStep": {"steps": 3, "thr": 60}}
-OURS = {  # label -> smooth_mesh overrides (placement: 0 ring barycentre, 1 patch point, 2 Newton)
+OURS = {  # label -> smooth_mesh overrides (placement: 0 ring barycentre, 1 patch point, 2 Newton,
+    # 3 feature-preserving face patches)
     "ours default": [],
+    "ours feature-preserving": ["placement=3"],
     "ours patch point": ["placement=1"],
     "ours paper (safeguard)": ["placement=2"],
     "ours paper (as printed)": ["placement=2", "newton_step_limit=0"],
@@ -565,10 +573,11 @@ def machine_info():
             sorted({l[3:].split("/")[0] for l in dirty.splitlines()}))
     return {"nproc": os.cpu_count(), "cpu": cpu, "meshlab": version, "memory": mem,
             "date": datetime.datetime.now().strftime("%Y-%m-%d %H:%M"),
-            "kernel": platform.release(), "commit": commit or "unknown"}
+            "kernel": platform.release(), "commit": commit or "unknown",
+            "load": f"{os.getloadavg()[0]:.2f}"}
 
 
-SUMMARY_COLUMNS = (["noisy", "ours default"] +
+SUMMARY_COLUMNS = (["noisy", "ours default", "ours feature-preserving"] +
                    [f"{p} {w}" for p in PEERS for w in ("default", "best")])
 
 
@@ -583,7 +592,7 @@ def summary_table(cases, quality, key, digits, title_note=""):
         for col in SUMMARY_COLUMNS:
             v = r[col].get(key)
             text = fmt(v, digits)
-            if col == "ours default" and finite(v) and finite(best_peer) and v <= best_peer:
+            if col.startswith("ours") and finite(v) and finite(best_peer) and v <= best_peer:
                 text = f"**{text}**"
             cells.append(text)
         lines.append(f"| {case['name']} | " + " | ".join(cells) + " |")
@@ -603,31 +612,108 @@ def best_meshlab(r, key="theta_deg"):
     return best or ("–", {})
 
 
+# shared/data/README.md: guided normal filtering (Zhang et al. 2015, authors' code, default
+# parameters) and bilateral normal filtering (Zheng et al. 2011): theta / Ev x 1e-3.
+GNF = {"Fandisk0.3": (2.93, 0.93), "Block0.4": (4.09, 1.30), "SharpSphere0.3": (8.17, 1.46),
+       "Twelve0.5Impulsive": (3.84, 1.39)}
+BILATERAL = {"Fandisk0.3": (3.49, 1.02), "Block0.4": (7.06, 1.58), "SharpSphere0.3": (8.29, 1.29),
+             "Twelve0.5Impulsive": (6.92, 1.90)}
+
+
+def normal_filtering_section(cases, quality):
+    """The feature-preserving mode against the published normal-filtering figures (issue 8)."""
+    L = ["| case | noisy θ / Ev | ours feature-preserving θ / Ev | θ sharp noisy → ours | "
+         "guided normal filtering | bilateral normal filtering | best MeshLab θ / Ev | "
+         "beats guided on θ and Ev |", "|---|---|---|---|---|---|---|---|"]
+    wins = rows = 0
+    for case in cases:
+        if case["name"] not in GNF:
+            continue
+        r = quality[case["name"]]
+        ours, noisy = r["ours feature-preserving"], r["noisy"]
+        g, b = GNF[case["name"]], BILATERAL[case["name"]]
+        _, peer = best_meshlab(r)
+        win = finite(ours.get("theta_deg")) and ours["theta_deg"] < g[0] and \
+            ours["ev_1e3"] < g[1]
+        wins += win
+        rows += 1
+        L.append(f"| {case['name']} | {fmt(noisy.get('theta_deg'))} / {fmt(noisy.get('ev_1e3'))} "
+                 f"| {fmt(ours.get('theta_deg'))} / {fmt(ours.get('ev_1e3'))} | "
+                 f"{fmt(noisy.get('theta_sharp_deg'))} → {fmt(ours.get('theta_sharp_deg'))} | "
+                 f"{g[0]:.2f} / {g[1]:.2f} | {b[0]:.2f} / {b[1]:.2f} | "
+                 f"{fmt(peer.get('theta_deg'))} / {fmt(peer.get('ev_1e3'))} | "
+                 f"{'yes' if win else 'no'} |")
+    L.append("")
+    L.append(f"The feature-preserving mode beats guided normal filtering on both θ and Ev on {wins} "
+             f"of {rows} cases.")
+    return "\n".join(L)
+
+
+def whole_process(t, method):
+    """A method's whole meshlabserver run on the mesh: load+save plus one application."""
+    m = t["methods"][method]
+    return t["base"] + (m.get("filter") or 0.0)
+
+
+def targets_section(timing):
+    """Issue 7's targets, read off the timing run."""
+    L = ["| mesh | vertices | ours, whole meshlabserver run (s) | Taubin x10 (s) | ours ÷ Taubin "
+         f"(target ≤ {TARGET_TAUBIN_RATIO:g}) | TwoStep x3 (s) | ours ÷ TwoStep (target ≤ "
+         f"{TARGET_TWOSTEP_RATIO:g}) | peak RSS ours / load+save (MB) | ratio (target ≤ "
+         f"{TARGET_RSS_RATIO:g}) | vertex-iterations/s, whole filter in-process (3 iterations) |",
+         "|---|---|---|---|---|---|---|---|---|---|"]
+    for label, t in timing.items():
+        m = t["methods"]
+        taubin = next(k for k in m if k.startswith("Taubin"))
+        twostep = next(k for k in m if k.startswith("TwoStep"))
+        ours, ta, ts = (whole_process(t, k) for k in ("ours in meshlabserver", taubin, twostep))
+        rss, rss0 = m["ours in meshlabserver"]["rss"], m["load+save only"]["rss"]
+        inproc = m["ours in-process"].get("filter")
+        vips = 3 * t["mesh"]["vertices"] / inproc if inproc else None
+        rss_text = f"{fmt(rss, 0)} / {fmt(rss0, 0)}" if rss and rss0 else "–"
+        rss_ratio = f"{rss / rss0:.2f}" if rss and rss0 else "–"
+        L.append(f"| {label} {t['mesh']['name']} | {t['mesh']['vertices']:,} | {ours:.2f} | "
+                 f"{ta:.2f} | {ours / ta:.2f} | {ts:.2f} | {ours / ts:.3f} | {rss_text} | "
+                 f"{rss_ratio} | {f'{vips:,.0f}' if vips else '–'} |")
+    armadillo = sorted((t["mesh"]["vertices"], t["methods"][k].get("filter"), k)
+                       for t in timing.values() if t["mesh"]["name"].startswith("armadillo")
+                       for k in ("ours in-process", "ours in-process, 1 thread"))
+    L.append("")
+    for k in ("ours in-process", "ours in-process, 1 thread"):
+        pts = [(n, f) for n, f, kk in armadillo if kk == k and f]
+        if len(pts) > 1:
+            (n0, f0), (n1, f1) = pts[0], pts[-1]
+            L.append(f"- Growth, {k} on the armadillo: time ∝ n^{math.log(f1 / f0) / math.log(n1 / n0):.2f} "
+                     f"from {n0:,} to {n1:,} vertices ({f0:.2f} s → {f1:.2f} s).")
+    return "\n".join(L)
+
+
 def summary_section(cases, quality, timing):
-    L = ["| case | noisy θ / Ev | ours default θ / Ev | best MeshLab (by θ) | its θ / Ev | "
-         "best MeshLab Ev | ours rank by θ (of 9) |", "|---|---|---|---|---|---|---|"]
-    wins_theta = wins_ev = 0
+    modes = ("ours default", "ours feature-preserving")
+    L = ["| case | noisy θ / Ev | ours default θ / Ev | ours feature-preserving θ / Ev | "
+         "best MeshLab (by θ) | its θ / Ev | best MeshLab Ev |", "|---|---|---|---|---|---|---|"]
+    wins = {m: [0, 0] for m in modes}  # theta, Ev
     for case in cases:
         r = quality[case["name"]]
-        ours = r["ours default"]
         label, peer = best_meshlab(r)
         _, peer_ev = best_meshlab(r, "ev_1e3")
-        entries = [r[f"{p} {w}"].get("theta_deg") for p in PEERS for w in ("default", "best")]
-        rank = 1 + sum(1 for t in entries if finite(t) and finite(ours.get("theta_deg")) and
-                       t < ours["theta_deg"])
-        wins_theta += finite(ours.get("theta_deg")) and ours["theta_deg"] <= peer.get(
-            "theta_deg", math.inf)
-        wins_ev += finite(ours.get("ev_1e3")) and ours["ev_1e3"] <= peer_ev.get("ev_1e3",
-                                                                                 math.inf)
+        cells = []
+        for mode in modes:
+            ours = r[mode]
+            wins[mode][0] += finite(ours.get("theta_deg")) and ours["theta_deg"] <= peer.get(
+                "theta_deg", math.inf)
+            wins[mode][1] += finite(ours.get("ev_1e3")) and ours["ev_1e3"] <= peer_ev.get(
+                "ev_1e3", math.inf)
+            cells.append(f"{fmt(ours.get('theta_deg'))} / {fmt(ours.get('ev_1e3'))}")
         L.append(f"| {case['name']} | {fmt(r['noisy'].get('theta_deg'))} / "
-                 f"{fmt(r['noisy'].get('ev_1e3'))} | {fmt(ours.get('theta_deg'))} / "
-                 f"{fmt(ours.get('ev_1e3'))} | {label} | {fmt(peer.get('theta_deg'))} / "
-                 f"{fmt(peer.get('ev_1e3'))} | {fmt(peer_ev.get('ev_1e3'))} | {rank} |")
+                 f"{fmt(r['noisy'].get('ev_1e3'))} | {' | '.join(cells)} | {label} | "
+                 f"{fmt(peer.get('theta_deg'))} / {fmt(peer.get('ev_1e3'))} | "
+                 f"{fmt(peer_ev.get('ev_1e3'))} |")
     L.append("")
-    L.append(f"Our default has the lowest θ of all methods on {wins_theta} of {len(cases)} cases "
-             f"and the lowest Ev on {wins_ev} of {len(cases)} (against every MeshLab filter at "
-             "its default and at its per-case best sweep setting). Rank: 1 + the number of the 8 "
-             "MeshLab entries (4 filters × default/best) with a lower θ.")
+    for mode in modes:
+        L.append(f"- {mode}: θ at least as low as every MeshLab filter (at its default and at its "
+                 f"per-case best sweep setting) on {wins[mode][0]} of {len(cases)} cases, Ev on "
+                 f"{wins[mode][1]} of {len(cases)}.")
     if timing:
         L.append("")
         parts = []
@@ -721,12 +807,23 @@ def write_results(path, img_rel, args, machine, cases, quality, agreement, timin
              "Do not edit by hand: rerun the command.\n")
     L.append(f"Machine: {machine['nproc']} CPUs ({machine['cpu']}), {machine['memory']} RAM, "
              f"Linux {machine['kernel']}; MeshLab {machine['meshlab']} (Debian, float build) "
-             "through its meshlabserver. The cores were shared with other jobs during the run, so "
-             f"absolute times are noisy; all methods were timed in the same run, interleaved, "
+             "through its meshlabserver. Load average (1 min) when the run started "
+             f"{machine.get('load', '?')}, after the timing runs {machine.get('load_after_timing', '?')}: "
+             "other jobs on the machine make absolute times noisy; "
+             f"all methods were timed in the same run, interleaved, "
              f"median of {runs} run(s) (a method whose first run took over {SLOW_RUN_SECONDS} s "
              "ran once), so the ratios are the figures to read.\n")
     L.append("## Summary\n")
     L.append(summary_section(lit + cg, quality, timing) + "\n")
+    if any(c["name"] in GNF for c in lit):
+        L.append("## Feature-preserving mode vs published normal filtering (issue 8)\n")
+        L.append(normal_filtering_section(lit, quality) + "\n")
+    if timing and not args.quick:
+        L.append("## Speed targets (issue 7)\n")
+        L.append("Whole meshlabserver runs (load, filter, save; for MeshLab's filters applied "
+                 "several times per script on small meshes: load+save plus one application), "
+                 "medians of the same interleaved run as the Speed section below.\n")
+        L.append(targets_section(timing) + "\n")
     L.append("## How it is measured\n")
     L.append("- Each case is a clean/noisy pair with the same connectivity; each method smooths "
              "the "
@@ -739,7 +836,8 @@ def write_results(path, img_rel, args, machine, cases, quality, agreement, timin
              "mean inward move of boundary vertices in mean edge lengths (open meshes); "
              "**flipped faces** faces whose normal is more than 90° from the clean one.")
     L.append("- Ours: `tools/smooth_mesh` (the plugin's core, in-process, double precision) at the "
-             "filter's defaults (3 iterations, ring-barycentre placement); variants: patch point "
+             "filter's defaults (3 iterations, ring-barycentre placement) and in its feature-preserving "
+             "mode (`placement=3`, face patches on guided-filtered normals); variants: patch point "
              "placement, the paper's Newton placement with the step safeguard (1 mean edge) and "
              "as printed (`newton_step_limit=0`). Ours through the real meshlabserver (float "
              "build) is checked against in-process below.")
@@ -755,7 +853,7 @@ def write_results(path, img_rel, args, machine, cases, quality, agreement, timin
              f"in random 3-D directions (r), seed {NOISE_SEED} (`tools/add_noise`).\n")
 
     L.append("## θ (degrees, lower is better) — literature and paper cases\n")
-    L.append("Bold: our default is at least as good as every MeshLab setting tried.\n")
+    L.append("Bold: our mode is at least as good as every MeshLab setting tried.\n")
     L.append(summary_table(lit, quality, "theta_deg", 2) + "\n")
     L.append("## Ev (×1e-3, lower is better) — literature and paper cases\n")
     L.append(summary_table(lit, quality, "ev_1e3", 3) + "\n")
@@ -886,6 +984,7 @@ def main():
             cases = make_cases(runner, work, args.quick)
             timing_meshes = make_timing_meshes(runner, work, args.quick)
             timing = run_timing(runner, timing_meshes, runs)  # first: the machine is quietest
+            machine["load_after_timing"] = f"{os.getloadavg()[0]:.2f}"
             runner.prefetch(quality_tasks(cases, args.quick), args.jobs)
             quality = run_quality(runner, cases, args.quick)
             curves = run_iterations(runner, cases, quality, args.quick)

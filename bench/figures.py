@@ -50,8 +50,11 @@ def before_after(case, r, rotation, path):
     cam = clean_points @ rotation.T
     frame = render.camera_frame(cam)
     peer_label, peer = best_peer(r)
-    panels = [("noisy", case["noisy"], r["noisy"]), ("ours (default)", r["ours default"]["path"],
-                                                     r["ours default"])]
+    panels = [("noisy", case["noisy"], r["noisy"])]
+    for label, key in (("ours (default)", "ours default"),
+                       ("ours (feature-preserving)", "ours feature-preserving")):
+        if "path" in r.get(key, {}):
+            panels.append((label, r[key]["path"], r[key]))
     if peer is not None:
         panels.append((f"MeshLab {peer_label}", peer["path"], peer))
     panels.append(("clean", case["clean"], None))
@@ -66,7 +69,7 @@ def before_after(case, r, rotation, path):
         ax.set_title(title, fontsize=8)
         ax.axis("off")
     fig.suptitle(case["name"], fontsize=10)
-    fig.tight_layout(pad=0.3, rect=(0, 0, 1, 0.93))
+    fig.tight_layout(pad=0.3, rect=(0, 0, 1, 0.88))
     save(fig, path)
 
 
@@ -174,7 +177,7 @@ def make_all(runner, cases, quality, curves, timing, img_dir, quick):
         file = "before_after_" + name.replace(" ", "_").replace(".", "") + ".png"
         before_after(by_name[name], quality[name], render.view_rotation(az, el, up),
                      img_dir / file)
-        pictures.append((f"{name}: noisy, ours, best MeshLab filter, clean", file))
+        pictures.append((f"{name}: noisy, ours (default, feature-preserving), best MeshLab filter, clean", file))
         done += 1
     if saliency_map(runner, cases, img_dir / "saliency.png", quick):
         pictures.append(("Saliency heat map", "saliency.png"))

@@ -34,7 +34,8 @@ def test_quick_benchmark_produces_finite_tables(tmp_path):
     for heading in SUMMARY_SECTIONS:
         table = section(text, heading)
         header = numbers(next(l for l in table.splitlines() if l.startswith("| case |")))
-        assert header[1:4] == ["noisy", "ours default", "Laplacian default"]
+        assert header[1:5] == ["noisy", "ours default", "ours feature-preserving",
+                               "Laplacian default"]
         for case in QUICK_CASES:
             rows = [l for l in table.splitlines() if l.startswith(f"| {case} |")]
             assert len(rows) == 1, (heading, case)
@@ -51,8 +52,17 @@ def test_quick_benchmark_produces_finite_tables(tmp_path):
         row = dict(zip(header, numbers(next(l for l in theta.splitlines()
                                             if l.startswith(f"| {case} |")))))
         assert float(row["ours default"]) < float(row["noisy"]), row
+        assert float(row["ours feature-preserving"]) < float(row["noisy"]), row
         for peer in ["Laplacian best", "HC Laplacian best", "Taubin best"]:
             assert float(row[peer]) < float(row["noisy"]), (case, peer)
+
+    # the feature-preserving mode next to the published guided / bilateral normal filtering
+    published = section(text, "## Feature-preserving mode vs published normal filtering")
+    for case in QUICK_CASES[:4]:
+        cells = numbers(next(l for l in published.splitlines() if l.startswith(f"| {case} |")))
+        theta, ev = (float(x) for x in cells[2].split(" / "))
+        noisy_theta, noisy_ev = (float(x) for x in cells[1].split(" / "))
+        assert theta < noisy_theta and ev < noisy_ev, cells
 
     speed = section(text, "## Speed")
     timing_rows = [numbers(l) for l in speed.splitlines() if l.startswith("| 10k |")]
