@@ -289,6 +289,7 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
   if (int(p.at("placement")) == 3) {
     vcg_ext::FeatureSmoothParams feature;
     feature.selected_only = params.selected_only;
+    feature.preserve_volume = params.preserve_volume;
     feature.saliency_scale = params.saliency_scale;
     const vcg_ext::FeatureSmoothReport r =
         vcg_ext::featureSmoothMesh(arrays, feature, result, q, detail::progressOf(cb));

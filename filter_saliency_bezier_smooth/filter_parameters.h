@@ -111,8 +111,9 @@ inline const std::vector<ParamSpec> &parameterSpecs(FilterId id) {
        "than 45 degrees) stay in place except in the paper mode.",
        {"Paper", "Fixed", "Along boundary", "Along boundary and normal"}},
       {ParamKind::Bool, "preserve_volume", 1, "Preserve volume",
-       "Closed meshes: after each iteration, offset the moved vertices along their normals so that "
-       "the enclosed volume stays that of the input."},
+       "Closed meshes: after each iteration (feature-preserving mode: once at the end), offset "
+       "the moved vertices along their normals so that the enclosed volume stays that of the "
+       "input."},
       {ParamKind::Enum, "fold_handling", 0, "Folded neighbourhoods",
        "Fit anyway (least squares needs no one-to-one projection), or the paper's fallbacks: "
        "refit with the vertex's own normal, then with its 1-ring, else keep the vertex.",

@@ -53,6 +53,9 @@ struct FeatureSmoothParams {
   double fold_cos = 0.5;      // a face is folded when its normal is this far from its filtered one
   FacePatchParams patches;
   bool selected_only = false;
+  // Closed meshes: one offset along the vertex normals at the end restores the input's volume
+  // (the pre-pass and the patch updates lose up to 0.7 % on a coarse organic mesh: the cow).
+  bool preserve_volume = true;
   double saliency_scale = 0.003; // for the per-vertex quantities of the result only
 };
 
@@ -253,6 +256,22 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
     }
     report.seconds_vertices += seconds(t);
     report.outer_iterations_done = pass + 1;
+  }
+
+  if (params.preserve_volume && report.closed && vertex_iterations > 0 && edge > 0) {
+    std::vector<std::uint8_t> movable(n);
+    for (int v = 0; v < n; ++v) movable[v] = !fixed[v];
+    // The offset is first-order in the lost volume; a second round takes out what curvature
+    // leaves (coarse sphere: 1.2 % lost, 6e-4 after one round).
+    for (int round = 0; round < 2; ++round) {
+      computeVertexNormals(current, mesh.faces, rings, vertex_normals);
+      const double offset = detail::volumeRestoringOffset(
+          current, mesh.faces, movable, report.volume_before - signedVolume(current, mesh.faces));
+      // As in smooth.h: an offset beyond an edge length means a collapsed surface, not lost volume.
+      if (!(std::abs(offset) <= edge)) break;
+      for (int v = 0; v < n; ++v)
+        if (movable[v]) current[v] += offset * vertex_normals[v];
+    }
   }
 
   // Describe the result with the same per-vertex quantities as the other modes.
