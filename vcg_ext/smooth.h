@@ -316,7 +316,7 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
   SmoothReport report;
   const int n = int(mesh.points.size());
   auto t0 = clock::now();
-  const Rings rings = computeRings(n, mesh.faces);
+  Rings rings = computeRings(n, mesh.faces);
   const EdgeStatistics stats = edgeStatistics(mesh.points, rings);
   const detail::VertexRoles roles = detail::vertexRoles(mesh, rings, stats.mean_edge_length);
   report.seconds_topology = seconds(t0);
@@ -437,6 +437,12 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
   }
 
   // The quantities describe the result: analyse it once more (cheap next to the iterations).
+  // The analysis needs neither the 2-rings nor the iteration buffers; freeing them first keeps
+  // them out of the run's peak memory, which the saliency's lattices set.
+  std::vector<int>().swap(rings.ring2);
+  std::vector<int>().swap(rings.ring2_offsets);
+  std::vector<Vec3>().swap(next);
+  std::vector<Vec3>().swap(normals_scratch);
   auto t = clock::now();
   computeCurvature(current, mesh.faces, rings, analysis.curvature);
   report.seconds_curvature += seconds(t);
@@ -445,12 +451,12 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
                   params.saliency);
   report.seconds_saliency += seconds(t);
 
-  quantities.saliency = analysis.saliency;
-  quantities.k1 = analysis.curvature.k1;
-  quantities.k2 = analysis.curvature.k2;
-  quantities.mean = analysis.curvature.mean;
-  quantities.gauss = analysis.curvature.gauss;
-  quantities.alpha = alpha;
+  quantities.saliency = std::move(analysis.saliency);
+  quantities.k1 = std::move(analysis.curvature.k1);
+  quantities.k2 = std::move(analysis.curvature.k2);
+  quantities.mean = std::move(analysis.curvature.mean);
+  quantities.gauss = std::move(analysis.curvature.gauss);
+  quantities.alpha = std::move(alpha);
   quantities.displacement.assign(n, 0.0);
   for (int i = 0; i < n; ++i) {
     quantities.displacement[i] = (current[i] - mesh.points[i]).norm();
