@@ -362,21 +362,28 @@ def make_cases(runner, work, quick):
     return cases
 
 
+def noisy_subdivided(runner, src, made, name, levels):
+    """libcgal-demo's `name` subdivided `levels` times at edge midpoints, with normal noise 0.2 x
+    mean edge; made once into `made`."""
+    noisy = made / f"{name}_x{levels}_n0.2.ply"
+    if not noisy.exists():
+        points, faces = meshio.read_off(src / f"{name}.off")
+        for _ in range(levels):
+            points, faces = meshio.midpoint_subdivide(points, faces)
+        base = made / f"{name}_x{levels}.ply"
+        meshio.write_ply(base, points, faces)
+        runner.tool("add_noise", base, noisy, 0.2, "normal", NOISE_SEED)
+        base.unlink()
+    return noisy
+
+
 def make_timing_meshes(runner, work, quick):
     src = cgal_meshes(work)
     made = work / "timing"
     made.mkdir(parents=True, exist_ok=True)
     meshes = []
     for label, name, levels in TIMING_MESHES[:1] if quick else TIMING_MESHES:
-        noisy = made / f"{name}_x{levels}_n0.2.ply"
-        if not noisy.exists():
-            points, faces = meshio.read_off(src / f"{name}.off")
-            for _ in range(levels):
-                points, faces = meshio.midpoint_subdivide(points, faces)
-            base = made / f"{name}_x{levels}.ply"
-            meshio.write_ply(base, points, faces)
-            runner.tool("add_noise", base, noisy, 0.2, "normal", NOISE_SEED)
-            base.unlink()
+        noisy = noisy_subdivided(runner, src, made, name, levels)
         info = json.loads(runner.tool("mesh_compare", "--volume", noisy))
         meshes.append({"label": label, "name": f"{name}" + (f" (midpoint x{levels})" if levels
                                                             else ""),

@@ -17,7 +17,6 @@ import sys
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import bench  # noqa: E402
-import meshio  # noqa: E402
 
 PEERS = [("Taubin x10", "Taubin", {"steps": 10}), ("TwoStep x3, 60deg", "TwoStep",
                                                    {"steps": 3, "thr": 60}),
@@ -28,15 +27,7 @@ def make_meshes(runner, work, sizes):
     src = bench.cgal_meshes(work)
     meshes = []
     for name, levels in [("camel", 0)] + [("armadillo", k) for k in sizes]:
-        noisy = work / f"{name}_x{levels}_n0.2.ply"
-        if not noisy.exists():
-            points, faces = meshio.read_off(src / f"{name}.off")
-            for _ in range(levels):
-                points, faces = meshio.midpoint_subdivide(points, faces)
-            base = work / f"{name}_x{levels}.ply"
-            meshio.write_ply(base, points, faces)
-            runner.tool("add_noise", base, noisy, 0.2, "normal", bench.NOISE_SEED)
-            base.unlink()
+        noisy = bench.noisy_subdivided(runner, src, work, name, levels)
         info = json.loads(runner.tool("mesh_compare", "--volume", noisy))
         meshes.append({"name": f"{name} x{levels}", "path": noisy, "vertices": info["vertices"]})
     return meshes

@@ -188,6 +188,22 @@ inline double volumeRestoringOffset(const std::vector<Vec3> &points, const std::
   return swept > 0 ? missing / swept : 0.0;
 }
 
+// Offsets the vertices flagged in `moved` along their normals so that the enclosed volume becomes
+// `target` (first order). Returns false, leaving `points` as they are, when the offset would exceed
+// `max_offset`: that means a (nearly) collapsed surface, not a lost sliver of volume (found by the
+// fuzzer: a flattened octahedron asked for 1e15 edge lengths).
+inline bool restoreVolume(std::vector<Vec3> &points, const std::vector<Face> &faces,
+                          const Rings &rings, const std::vector<std::uint8_t> &moved,
+                          double target, double max_offset, std::vector<Vec3> &normals) {
+  computeVertexNormals(points, faces, rings, normals);
+  const double offset =
+      volumeRestoringOffset(points, faces, moved, target - signedVolume(points, faces));
+  if (!(std::abs(offset) <= max_offset)) return false;
+  for (size_t i = 0; i < points.size(); ++i)
+    if (moved[i]) points[i] += offset * normals[i];
+  return true;
+}
+
 // Whether a patch point (local coordinates) lies within the neighbourhood's bounding box grown by
 // the box's largest extent. A nearly singular fit (e.g. 9 points that almost interpolate the 9
 // control points) can pass the solver's rank test and still put the patch far from its data:
@@ -420,17 +436,9 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
     report.newton_failures += counters.newton_failures;
     report.rejected_moves += counters.rejected;
     if (params.preserve_volume && report.closed) {
-      computeVertexNormals(next, mesh.faces, rings, normals_scratch);
       for (int i = 0; i < n; ++i) movable_scratch[i] = movable(i);
-      const double offset = detail::volumeRestoringOffset(
-          next, mesh.faces, movable_scratch,
-          report.volume_before - signedVolume(next, mesh.faces));
-      // Smoothing loses a sliver of volume per iteration; needing more than an edge length means
-      // the surface (nearly) collapsed and the first-order offset is meaningless (found by the
-      // fuzzer: a flattened octahedron got an offset of 1e15 edge lengths).
-      if (std::abs(offset) <= stats.mean_edge_length)
-        for (int i = 0; i < n; ++i)
-          if (movable_scratch[i]) next[i] += offset * normals_scratch[i];
+      detail::restoreVolume(next, mesh.faces, rings, movable_scratch, report.volume_before,
+                            stats.mean_edge_length, normals_scratch);
     }
     current.swap(next);
     report.iterations_done = it + 1;

@@ -54,6 +54,17 @@ std::string joined(const FilterOutcome &o) {
   return s;
 }
 
+// Largest coordinate difference between `m` scaled back by 1/s and `reference`.
+template <class M>
+double maxScaledDeviation(const M &m, const M &reference, double s) {
+  double worst = 0;
+  for (size_t v = 0; v < m.vert.size(); ++v)
+    for (int k = 0; k < 3; ++k)
+      worst = std::max(worst, std::abs(double(m.vert[v].cP()[k]) / s -
+                                       double(reference.vert[v].cP()[k])));
+  return worst;
+}
+
 // Live positions, quality and every attribute the filters write are finite.
 template <class M>
 void expectFiniteOutput(M &m) {
@@ -447,11 +458,7 @@ TYPED_TEST(BadInput, HugeAndTinyCoordinatesAreScaleEquivariant) {
     const FilterOutcome o = smooth(m);
     ASSERT_TRUE(o.ok) << o.error;
     expectFiniteOutput(m);
-    double worst = 0;
-    for (size_t v = 0; v < m.vert.size(); ++v)
-      for (int k = 0; k < 3; ++k)
-        worst = std::max(worst, std::abs(double(m.vert[v].cP()[k]) / s -
-                                         double(reference.vert[v].cP()[k])));
+    const double worst = maxScaledDeviation(m, reference, s);
     EXPECT_LT(worst / diagonal, 1e-6) << "scale " << s;
 
     TypeParam a;
@@ -525,11 +532,7 @@ TYPED_TEST(BadInput, ExtremeScalesInsideTheLimits) {
     test_vcg::assign(m, scaled);
     ASSERT_TRUE(smooth(m).ok);
     expectFiniteOutput(m);
-    double worst = 0;
-    for (size_t v = 0; v < m.vert.size(); ++v)
-      for (int k = 0; k < 3; ++k)
-        worst = std::max(worst, std::abs(double(m.vert[v].cP()[k]) / s -
-                                         double(reference.vert[v].cP()[k])));
+    const double worst = maxScaledDeviation(m, reference, s);
     EXPECT_LT(worst / 2, 1e-6) << "scale " << s;
   }
   MeshArrays tiny = base;
