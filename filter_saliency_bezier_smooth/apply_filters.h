@@ -9,6 +9,7 @@
 #include <vcg/complex/algorithms/update/normal.h>
 #include <vcg/complex/complex.h>
 #include <vcg_ext/feature_smooth.h>
+#include <vcg_ext/organic_smooth.h>
 #include <vcg_ext/smooth.h>
 
 #include <chrono>
@@ -229,6 +230,38 @@ inline std::vector<std::string> featureLog(const vcg_ext::FeatureSmoothReport &r
   return log;
 }
 
+inline std::vector<std::string> organicLog(const vcg_ext::OrganicSmoothReport &r, size_t vertices) {
+  std::vector<std::string> log;
+  log.push_back(format("Organic mode: %.0f of %.0f vertices moved.", double(r.vertices_moved),
+                       double(vertices)));
+  log.push_back(format("Noise estimate (dihedral spread) %.1f deg, roughness %.2f; noise along "
+                       "the normals %.3f mean edge lengths.",
+                       r.dihedral_spread_deg, r.roughness,
+                       r.mean_edge_length > 0 ? r.bands.noise_sigma / r.mean_edge_length : 0.0));
+  std::string gains = format("Fine-band shape/noise %.2f, alpha %.2f; band gains (fine to coarse):",
+                             r.bands.fine_snr, r.bands.alpha);
+  for (double g : r.bands.gains) gains += format(" %.2f", g);
+  log.push_back(gains + ".");
+  if (r.roughness == 0)
+    log.push_back("The mesh measures as clean: left as it is.");
+  if (r.frozen_vertices > 0)
+    log.push_back(format("Skipped (left in place): %.0f non-manifold, isolated or on degenerate "
+                         "faces.",
+                         double(r.frozen_vertices)));
+  if (r.plane_fallbacks + r.rejected_moves > 0)
+    log.push_back(format("Patch fits that fell back to the face plane: %.0f; non-finite moves "
+                         "kept in place: %.0f.",
+                         double(r.plane_fallbacks), double(r.rejected_moves)));
+  if (r.closed && r.volume_before != 0)
+    log.push_back(format("Volume %g -> %g (ratio %.4f).", r.volume_before, r.volume_after,
+                         r.volume_after / r.volume_before));
+  log.push_back(format("Time: topology %.3f s, band shrinkage %.3f s, patch update %.3f s, result "
+                       "quantities %.3f s.",
+                       r.seconds_topology, r.seconds_bands, r.seconds_patches,
+                       r.seconds_quantities));
+  return log;
+}
+
 } // namespace detail
 
 inline vcg_ext::SmoothParams smoothParamsOf(const ParameterValues &p) {
@@ -237,7 +270,8 @@ inline vcg_ext::SmoothParams smoothParamsOf(const ParameterValues &p) {
   const vcg_ext::PlacementMode placements[] = {vcg_ext::PlacementMode::RingBarycentre,
                                                vcg_ext::PlacementMode::PatchPoint,
                                                vcg_ext::PlacementMode::Paper};
-  // The feature-preserving choice runs its own driver (feature_smooth.h), not a placement.
+  // The feature-preserving and organic choices run their own drivers (feature_smooth.h,
+  // organic_smooth.h), not a placement.
   s.placement = placements[std::min(int(p.at("placement")), 2)];
   s.alpha_override = p.at("alpha_override") != 0;
   s.alpha = p.at("alpha");
@@ -265,7 +299,7 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
   const vcg_ext::MeshArrays arrays = vcg_ext::extractArrays(m);
   out.error = detail::rejectMesh(m, arrays);
   for (const auto &check : {detail::checkRange(p, "iterations", 0, 1000),
-                            detail::checkRange(p, "placement", 0, 3),
+                            detail::checkRange(p, "placement", 0, 4),
                             detail::checkRange(p, "alpha", 0, 1),
                             detail::checkRange(p, "uniform_curvature", 0, 1),
                             detail::checkRange(p, "boundary", 0, 3),
@@ -296,6 +330,20 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
     if (r.cancelled) return out.error = "Cancelled: the mesh is unchanged.", out;
     const long clamped = detail::storeSmoothingResult(m, arrays, result, q, int(p.at("quality")));
     out.log = detail::featureLog(r, arrays.points.size());
+    if (clamped > 0) out.log.push_back(detail::clampedLog(clamped));
+    out.ok = true;
+    return out;
+  }
+  if (int(p.at("placement")) == 4) {
+    vcg_ext::OrganicSmoothParams organic;
+    organic.selected_only = params.selected_only;
+    organic.preserve_volume = params.preserve_volume;
+    organic.saliency_scale = params.saliency_scale;
+    const vcg_ext::OrganicSmoothReport r =
+        vcg_ext::organicSmoothMesh(arrays, organic, result, q, detail::progressOf(cb));
+    if (r.cancelled) return out.error = "Cancelled: the mesh is unchanged.", out;
+    const long clamped = detail::storeSmoothingResult(m, arrays, result, q, int(p.at("quality")));
+    out.log = detail::organicLog(r, arrays.points.size());
     if (clamped > 0) out.log.push_back(detail::clampedLog(clamped));
     out.ok = true;
     return out;

@@ -68,7 +68,11 @@ inline std::string filterDescription(FilterId id) {
          "usually does not exist on the patch); the step limit keeps it local. "
          "<i>Feature-preserving (face patches)</i> keeps sharp edges: a short Taubin pre-pass "
          "(scaled by the measured noise), guided normal filtering (Zhang et al. 2015) and each "
-         "vertex moved onto bi-quadratic patches of its faces (Sun et al. 2007's update)."
+         "vertex moved onto bi-quadratic patches of its faces (Sun et al. 2007's update). "
+         "<i>Organic scan (band shrinkage)</i> is for organic shapes with noise in all directions "
+         "(body scans, photogrammetry): the differences of Taubin results at 0, 1, 2, 4 ... 256 "
+         "steps are frequency bands, each kept in proportion to how much of it is shape rather "
+         "than noise (the noise level is measured from the mesh), then one face-patch update."
          "<br>All vertices of an iteration move at once; non-manifold and isolated vertices and "
          "those of degenerate faces are not moved. Per-vertex attributes <b>Saliency</b>, "
          "<b>K1</b>, <b>K2</b>, <b>MeanCurvature</b>, <b>GaussianCurvature</b>, <b>Alpha</b>, "
@@ -92,8 +96,12 @@ inline const std::vector<ParamSpec> &parameterSpecs(FilterId id) {
        "Where each vertex goes on its fitted patch: the patch point at its 1-ring barycentre's "
        "parameter, its own patch point, or the paper's Newton solve for the uniform principal "
        "curvature. Feature-preserving: guided normal filtering and per-face patches (keeps sharp "
-       "edges; uses only 'Affect only selected vertices' and 'Store in vertex quality').",
-       {"Ring barycentre", "Patch point", "Paper (Newton)", "Feature-preserving (face patches)"}},
+       "edges: CAD parts, noise along the normals). Organic scan: Taubin's frequency bands, each "
+       "kept in proportion to its measured shape-to-noise energy (organic shapes with noise in "
+       "all directions). These two use only 'Affect only selected vertices', 'Preserve volume' "
+       "and 'Store in vertex quality'.",
+       {"Ring barycentre", "Patch point", "Paper (Newton)", "Feature-preserving (face patches)",
+        "Organic scan (band shrinkage)"}},
       {ParamKind::Bool, "alpha_override", 1, "Override alpha",
        "Use the fixed alpha below everywhere instead of the paper's Saliency_min/Saliency_max "
        "over the neighbourhood (measured: the paper's rule degenerates near zero saliency)."},

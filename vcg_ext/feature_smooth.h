@@ -102,6 +102,30 @@ inline Eigen::Matrix3d featureTangentProjector(int v, const Rings &rings,
   return P;
 }
 
+// Describes a result with the same per-vertex quantities as the other modes (curvatures and
+// saliency of the result, displacement from the input; α is 1: these modes do not use it).
+// Returns how many vertices moved.
+inline long describeResult(const std::vector<Vec3> &input, const std::vector<Vec3> &result,
+                           const std::vector<Face> &faces, const Rings &rings,
+                           double saliency_scale, VertexQuantities &quantities) {
+  const int n = int(result.size());
+  SurfaceAnalysis analysis;
+  analyseSurface(result, faces, rings, saliency_scale, analysis);
+  quantities.saliency = std::move(analysis.saliency);
+  quantities.k1 = std::move(analysis.curvature.k1);
+  quantities.k2 = std::move(analysis.curvature.k2);
+  quantities.mean = std::move(analysis.curvature.mean);
+  quantities.gauss = std::move(analysis.curvature.gauss);
+  quantities.alpha.assign(n, 1.0);
+  quantities.displacement.assign(n, 0.0);
+  long moved = 0;
+  for (int i = 0; i < n; ++i) {
+    quantities.displacement[i] = (result[i] - input[i]).norm();
+    moved += quantities.displacement[i] > 0;
+  }
+  return moved;
+}
+
 } // namespace detail
 
 inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
@@ -269,21 +293,10 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
         break;
   }
 
-  // Describe the result with the same per-vertex quantities as the other modes.
   t = clock::now();
-  SurfaceAnalysis analysis;
-  analyseSurface(current, mesh.faces, rings, params.saliency_scale * stats.bbox_diagonal, analysis);
-  quantities.saliency = analysis.saliency;
-  quantities.k1 = analysis.curvature.k1;
-  quantities.k2 = analysis.curvature.k2;
-  quantities.mean = analysis.curvature.mean;
-  quantities.gauss = analysis.curvature.gauss;
-  quantities.alpha.assign(n, 1.0);
-  quantities.displacement.assign(n, 0.0);
-  for (int i = 0; i < n; ++i) {
-    quantities.displacement[i] = (current[i] - mesh.points[i]).norm();
-    report.vertices_moved += quantities.displacement[i] > 0;
-  }
+  report.vertices_moved = detail::describeResult(mesh.points, current, mesh.faces, rings,
+                                                 params.saliency_scale * stats.bbox_diagonal,
+                                                 quantities);
   report.seconds_quantities = seconds(t);
   report.volume_after = signedVolume(current, mesh.faces);
   out_points.swap(current);

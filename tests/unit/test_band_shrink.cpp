@@ -1,0 +1,242 @@
+// The organic mode: the noise estimate and band shrinkage of vcg_ext/band_shrink.h, and the driver
+// of vcg_ext/organic_smooth.h (clean meshes stay put, random-direction noise is removed about as
+// well as Taubin at its best step count, volume and open boundaries are kept, the result does not
+// depend on thread count or vertex order).
+#include <gtest/gtest.h>
+#include <omp.h>
+#include <algorithm>
+#include <support/analytic_meshes.h>
+#include <vcg_ext/organic_smooth.h>
+
+using namespace vcg_ext;
+
+namespace {
+
+double meanEdge(const MeshArrays &m) {
+  return edgeStatistics(m.points, computeRings(int(m.points.size()), m.faces)).mean_edge_length;
+}
+
+NormalDeviation deviation(const std::vector<Vec3> &result, const MeshArrays &reference) {
+  return normalDeviation(result, reference.points, reference.faces,
+                         buildEdgeTable(reference.faces));
+}
+
+struct Topology {
+  Rings rings;
+  detail::VertexRoles roles;
+  std::vector<std::uint8_t> fixed;
+  explicit Topology(const MeshArrays &m)
+      : rings(computeRings(int(m.points.size()), m.faces)),
+        roles(detail::vertexRoles(m, rings, meanEdge(m))), fixed(roles.frozen) {}
+};
+
+double noiseEstimate(const MeshArrays &m) {
+  const Topology s(m);
+  std::vector<Vec3> normals;
+  computeVertexNormals(m.points, m.faces, s.rings, normals);
+  return estimateNormalNoiseSigma(m.points, s.rings, s.fixed, normals);
+}
+
+std::vector<Vec3> organicSmoothed(const MeshArrays &mesh,
+                                  const OrganicSmoothParams &params = OrganicSmoothParams(),
+                                  OrganicSmoothReport *report_out = nullptr) {
+  std::vector<Vec3> out;
+  VertexQuantities q;
+  const OrganicSmoothReport r = organicSmoothMesh(mesh, params, out, q);
+  if (report_out) *report_out = r;
+  return out;
+}
+
+MeshArrays flatGrid() {
+  return test_meshes::heightField(40, -1, 1, -1, 1, [](double, double) { return 0.0; });
+}
+
+} // namespace
+
+TEST(BandShrink, NoiseEstimateRecoversTheNoiseAlongTheNormals) {
+  const MeshArrays plane = flatGrid();
+  const double edge = meanEdge(plane);
+  MeshArrays along = plane, random3d = plane;
+  test_meshes::addNoise(along, 0.2 * edge, 1, [](int) { return Vec3(0, 0, 1); });
+  test_meshes::addNoise(random3d, 0.2 * edge, 2); // per axis: 0.2 along the normal too
+  EXPECT_NEAR(noiseEstimate(along) / (0.2 * edge), 1.0, 0.1);
+  EXPECT_NEAR(noiseEstimate(random3d) / (0.2 * edge), 1.0, 0.15);
+  EXPECT_EQ(noiseEstimate(plane), 0.0);
+  // A clean sphere reads only its curvature: the centre of a regular 1-ring of radius h lies
+  // h²/(2R) inside, read as a normal std through the 0.6745 and the sqrt(1 + 1/6) of six
+  // neighbours.
+  const MeshArrays sphere = test_meshes::icosphere(1.0, 4);
+  const double h = meanEdge(sphere);
+  EXPECT_NEAR(noiseEstimate(sphere) / (h * h / 2 / 0.6745 / std::sqrt(1 + 1.0 / 6)), 1.0, 0.2);
+}
+
+TEST(BandShrink, ProbeValuesAreStandardNormalAndFollowThePosition) {
+  double sum = 0, squares = 0;
+  const int count = 30000;
+  for (int i = 0; i < count; ++i) {
+    const Vec3 g = detail::positionHashedGaussian(Vec3(0.001 * i, std::sin(i), 1.0));
+    sum += g.sum();
+    squares += g.squaredNorm();
+  }
+  EXPECT_NEAR(sum / (3 * count), 0.0, 0.02);
+  EXPECT_NEAR(squares / (3 * count), 1.0, 0.03);
+  EXPECT_EQ(detail::positionHashedGaussian(Vec3(0.5, 0.25, -2)),
+            detail::positionHashedGaussian(Vec3(0.5, 0.25, -2)));
+  EXPECT_NE(detail::positionHashedGaussian(Vec3(0.5, 0.25, -2)),
+            detail::positionHashedGaussian(Vec3(0.5, 0.25, -2.0000001)));
+}
+
+TEST(BandShrink, WithoutNoiseEveryBandIsKept) {
+  const MeshArrays plane = flatGrid();
+  const Topology s(plane);
+  std::vector<Vec3> points = plane.points;
+  const BandShrinkReport r = bandShrinkSmooth(points, plane.faces, s.rings, s.fixed,
+                                              s.roles.boundary_neighbours, BandShrinkParams());
+  EXPECT_EQ(r.noise_sigma, 0.0);
+  EXPECT_EQ(r.gains, std::vector<double>(9, 1.0));
+  EXPECT_EQ(points, plane.points);
+}
+
+namespace {
+
+// Taubin's result at its best step count (1..120 pairs) against `clean`: the oracle the organic
+// mode is measured against.
+double bestTaubinTheta(const MeshArrays &noisy, const MeshArrays &clean) {
+  const Topology s(noisy);
+  double best = 1e9;
+  std::vector<Vec3> taubin = noisy.points;
+  for (int pairs = 1; pairs <= 120; ++pairs) {
+    taubinSmooth(taubin, s.rings, s.fixed, s.roles.boundary_neighbours, 1);
+    best = std::min(best, deviation(taubin, clean).theta_deg);
+  }
+  return best;
+}
+
+} // namespace
+
+TEST(BandShrink, NoisySphereComesCloseToTaubinAtItsBestStepCount) {
+  const MeshArrays clean = test_meshes::icosphere(1.0, 4);
+  MeshArrays noisy = clean;
+  test_meshes::addNoise(noisy, 0.25 * meanEdge(clean), 5);
+  const Topology s(noisy);
+  std::vector<Vec3> shrunk = noisy.points;
+  const BandShrinkReport r = bandShrinkSmooth(shrunk, noisy.faces, s.rings, s.fixed,
+                                              s.roles.boundary_neighbours, BandShrinkParams());
+  // The noise estimate, the finest bands removed, the coarsest kept, gains rising with scale.
+  EXPECT_NEAR(r.noise_sigma / (0.25 * meanEdge(clean)), 1.0, 0.15);
+  EXPECT_EQ(r.gains.front(), 0.0);
+  EXPECT_GT(r.gains.back(), 0.9);
+  for (size_t b = 1; b < r.gains.size(); ++b) EXPECT_GE(r.gains[b], r.gains[b - 1]) << b;
+  // A sphere is smooth at the edge scale: the strong setting.
+  EXPECT_EQ(r.alpha, BandShrinkParams().alpha_smooth);
+  // A sphere is the smoothest shape there is: the more smoothing the better, and even α = 3 keeps
+  // more of the middle bands than Taubin's best count (measured 2.57° vs 2.04°; bench/
+  // FEATURE_MODE.md: the smoothest held-out meshes, bear and mushroom, lose the same way).
+  const double best_taubin = bestTaubinTheta(noisy, clean);
+  const double theta = deviation(shrunk, clean).theta_deg;
+  RecordProperty("theta_band_shrink", std::to_string(theta));
+  RecordProperty("theta_taubin_best", std::to_string(best_taubin));
+  EXPECT_LT(theta, 1.35 * best_taubin);
+  EXPECT_LT(theta, 0.25 * deviation(noisy.points, clean).theta_deg);
+}
+
+TEST(OrganicSmooth, CleanMeshesAreLeftAsTheyAre) {
+  for (const MeshArrays &clean : {test_meshes::icosphere(1.0, 3), flatGrid(),
+                                  test_meshes::box(1.0, 0.8, 0.6, 8)}) {
+    OrganicSmoothReport report;
+    const std::vector<Vec3> out = organicSmoothed(clean, OrganicSmoothParams(), &report);
+    EXPECT_EQ(report.roughness, 0.0);
+    EXPECT_EQ(report.vertices_moved, 0);
+    EXPECT_EQ(out, clean.points);
+  }
+}
+
+TEST(OrganicSmooth, RandomNoiseOnAClosedMeshIsRemovedAndTheVolumeKept) {
+  const MeshArrays clean = test_meshes::icosphere(1.0, 4);
+  MeshArrays noisy = clean;
+  test_meshes::addNoise(noisy, 0.25 * meanEdge(clean), 6);
+  OrganicSmoothReport report;
+  const std::vector<Vec3> out = organicSmoothed(noisy, OrganicSmoothParams(), &report);
+  const NormalDeviation before = deviation(noisy.points, clean), after = deviation(out, clean);
+  EXPECT_EQ(report.roughness, 1.0);
+  EXPECT_TRUE(report.closed);
+  EXPECT_EQ(report.patch_updates, OrganicSmoothParams().max_patch_updates);
+  ASSERT_GT(before.flipped_faces, 50);
+  EXPECT_EQ(after.flipped_faces, 0);
+  EXPECT_LT(after.theta_deg, 0.25 * before.theta_deg);
+  const double best_taubin = bestTaubinTheta(noisy, clean);
+  RecordProperty("theta_organic", std::to_string(after.theta_deg));
+  RecordProperty("theta_taubin_best", std::to_string(best_taubin));
+  // The patch updates close part of the band shrinkage's gap on this smoothest of shapes
+  // (measured 2.28° vs Taubin's best 1.99°; see the band shrinkage's test).
+  EXPECT_LT(after.theta_deg, 1.2 * best_taubin);
+  EXPECT_NEAR(report.volume_after / report.volume_before, 1.0, 1e-4);
+  EXPECT_NEAR(report.volume_after / signedVolume(clean.points, clean.faces), 1.0, 0.005);
+}
+
+TEST(OrganicSmooth, OpenBoundaryIsNotPulledInward) {
+  const MeshArrays clean = flatGrid();
+  MeshArrays noisy = clean;
+  test_meshes::addNoise(noisy, 0.25 * meanEdge(clean), 7);
+  OrganicSmoothReport report;
+  const std::vector<Vec3> out = organicSmoothed(noisy, OrganicSmoothParams(), &report);
+  EXPECT_FALSE(report.closed);
+  const Rings rings = computeRings(int(clean.points.size()), clean.faces);
+  const double edge = meanEdge(clean);
+  double inward_sum = 0;
+  int sides = 0;
+  for (size_t i = 0; i < out.size(); ++i) {
+    const Vec3 &p = clean.points[i];
+    const bool on_x = std::abs(std::abs(p.x()) - 1) < 1e-9, on_y = std::abs(std::abs(p.y()) - 1) < 1e-9;
+    if (!rings.boundary[i] || on_x == on_y) continue;
+    inward_sum += on_x ? -(out[i].x() - p.x()) * p.x() : -(out[i].y() - p.y()) * p.y();
+    ++sides;
+  }
+  EXPECT_EQ(sides, 4 * 38);
+  EXPECT_LT(std::abs(inward_sum / sides), 0.05 * edge);
+  EXPECT_LT(deviation(out, clean).theta_deg, 0.3 * deviation(noisy.points, clean).theta_deg);
+}
+
+TEST(OrganicSmooth, SameResultForOneAndTwoThreadsAndPermutedVertices) {
+  const MeshArrays clean = test_meshes::icosphere(1.0, 3);
+  MeshArrays noisy = clean;
+  test_meshes::addNoise(noisy, 0.25 * meanEdge(clean), 8);
+  const int threads = omp_get_max_threads();
+  const int min_parallel = min_parallel_vertices;
+  min_parallel_vertices = 1; // this mesh is small: force the parallel loops
+  omp_set_num_threads(1);
+  const std::vector<Vec3> one = organicSmoothed(noisy);
+  omp_set_num_threads(2);
+  const std::vector<Vec3> two = organicSmoothed(noisy);
+  omp_set_num_threads(threads);
+  min_parallel_vertices = min_parallel;
+  ASSERT_EQ(one.size(), two.size());
+  for (size_t i = 0; i < one.size(); ++i) EXPECT_EQ(one[i], two[i]) << i;
+
+  const std::vector<int> perm = test_meshes::shuffledPermutation(int(noisy.points.size()), 13);
+  const std::vector<Vec3> shuffled = organicSmoothed(test_meshes::permuted(noisy, perm));
+  double worst = 0;
+  for (size_t i = 0; i < one.size(); ++i) worst = std::max(worst, (shuffled[perm[i]] - one[i]).norm());
+  EXPECT_LT(worst, 1e-9);
+}
+
+TEST(OrganicSmooth, FrozenVerticesAndInputStayAndCancelStops) {
+  const MeshArrays sphere = test_meshes::icosphere(1.0, 3);
+  MeshArrays noisy = sphere;
+  test_meshes::addNoise(noisy, 0.25 * meanEdge(sphere), 9);
+  noisy.points.push_back(Vec3(5, 5, 5)); // isolated
+  const MeshArrays copy = noisy;
+  OrganicSmoothReport report;
+  const std::vector<Vec3> out = organicSmoothed(noisy, OrganicSmoothParams(), &report);
+  EXPECT_EQ(report.frozen_vertices, 1);
+  EXPECT_EQ(out.back(), Vec3(5, 5, 5));
+  EXPECT_EQ(noisy.points, copy.points);
+
+  int calls = 0;
+  std::vector<Vec3> cancelled;
+  VertexQuantities q;
+  const OrganicSmoothReport stopped = organicSmoothMesh(
+      noisy, OrganicSmoothParams(), cancelled, q, [&](int, const char *) { return ++calls < 3; });
+  EXPECT_TRUE(stopped.cancelled);
+  EXPECT_EQ(calls, 3);
+}

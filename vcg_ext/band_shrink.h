@@ -1,0 +1,204 @@
+// Organic mode, stage A: Wiener shrinkage of the frequency bands of Taubin's scale space.
+//
+// Inputs: positions, triangles, Rings, the vertices that may not move, the boundary curve
+// neighbours (as for taubinSmooth). Output: smoothed positions and a report (noise estimate, the
+// gain of every band). Papers: Taubin 1995 (λ|μ smoothing as a low-pass filter); Wiener shrinkage
+// per band as in wavelet denoising (Donoho & Johnstone 1994, with a spectral over-subtraction
+// factor α as in Berouti et al. 1979).
+//
+// Why: with noise in random 3-D directions on organic meshes, Taubin at its best step count beats
+// every range-kernel filter we measured, and that best count differs per mesh (10 pairs for the
+// armadillo, 47 for the lion head: bench/FEATURE_MODE.md). The differences between Taubin results
+// at 0, 1, 2, 4, … 256 pairs split the mesh into frequency bands; each band is kept in proportion
+// to how much of its energy is shape rather than noise. The noise energy of a band is known: the
+// same Taubin steps applied to a random field with the noise's variance (a probe). The noise
+// variance is the robust spread of the normal component of the 1-ring Laplacian. So the amount of
+// smoothing follows from the mesh, not from a step count chosen per case.
+//
+// θ (face normals) wants more smoothing than the position error does when the mesh is smooth at
+// the scale of its edges; the shape energy left in the 4–8 pair band tells the two kinds apart
+// (bench/random_noise/scale_selection.py: α 3 below a band SNR of 0.12, α 1 above 0.18).
+//
+// The probe's values come from a hash of each vertex's position, and every sum runs in vertex
+// order on one thread, so the result does not depend on the vertex order or the thread count.
+#pragma once
+
+#include "curvature.h"
+#include "normal_filter.h"
+
+#include <cstring>
+#include <functional>
+
+namespace vcg_ext {
+
+struct BandShrinkParams {
+  // Band edges in Taubin pairs; the last one is the coarse base, kept whole.
+  std::vector<int> band_pairs = {0, 1, 2, 4, 8, 16, 32, 64, 128, 256};
+  int normal_pairs = 8;           // the band energies are taken along the normals of this snapshot
+  int fine_band = 3;              // index of the band whose shape-to-noise ratio chooses α (4–8)
+  double fine_snr_smooth = 0.12;  // at or below: α = alpha_smooth
+  double fine_snr_detailed = 0.18; // at or above: α = alpha_detailed; linear in between
+  double alpha_smooth = 3.0, alpha_detailed = 1.0;
+  double noise_scale = 1.0;       // multiplies the noise estimate (0: nothing is removed)
+  // Boundary vertices follow their boundary curve for at most this many pairs, then stay: a curve
+  // smoothed for hundreds of pairs drifts off the surface (lion head Ev ×1e-3: 1.69 unlimited,
+  // 1.44 at 32, 1.31 at 16), while the faces along a noisy boundary need the smoothing (elephant
+  // θ: 14.99 unlimited, 15.08 at 32, 15.19 at 16). bench/FEATURE_MODE.md.
+  int boundary_pairs = 32;
+};
+
+struct BandShrinkReport {
+  double noise_sigma = 0;    // estimated std of the noise along the normals (length units)
+  double fine_snr = 0;       // shape-to-noise energy ratio of the fine band
+  double alpha = 0;
+  double detail = 0;         // 0 (smooth at the edge scale: α = alpha_smooth) .. 1 (detailed)
+  std::vector<double> gains; // per band, finest first
+  bool cancelled = false;
+};
+
+namespace detail {
+
+// A standard normal value from a vertex's position: the same vertex gets the same value whatever
+// its index (SplitMix64 over the coordinates' bits, then Box-Muller).
+inline Vec3 positionHashedGaussian(const Vec3 &p) {
+  std::uint64_t h = 0x9E3779B97F4A7C15ull;
+  auto mix = [](std::uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  };
+  for (int k = 0; k < 3; ++k) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &p[k], sizeof bits);
+    h = mix(h ^ bits) + 0x9E3779B97F4A7C15ull;
+  }
+  auto uniform = [&](std::uint64_t &state) {
+    state = mix(state + 0x9E3779B97F4A7C15ull);
+    return (double(state >> 11) + 0.5) * (1.0 / 9007199254740992.0); // (0, 1)
+  };
+  std::uint64_t state = h;
+  Vec3 out;
+  for (int k = 0; k < 3; ++k) {
+    const double u1 = uniform(state), u2 = uniform(state);
+    out[k] = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+  }
+  return out;
+}
+
+} // namespace detail
+
+// The noise's standard deviation along the normals: median |(1-ring centre − p)·n| over the
+// interior movable vertices, as a normal std (/0.6745), corrected for the centre's own noise
+// (variance σ²/d). Curvature adds to it (a clean coarse armadillo reads 0.10 mean edge lengths),
+// which is why the callers gate on a separate clean/noisy test.
+inline double estimateNormalNoiseSigma(const std::vector<Vec3> &points, const Rings &rings,
+                                       const std::vector<std::uint8_t> &fixed,
+                                       const std::vector<Vec3> &normals) {
+  std::vector<double> residual;
+  double inflation = 0;
+  for (int v = 0; v < rings.vertex_count; ++v) {
+    const int d = rings.ring1Size(v);
+    if (fixed[v] || rings.boundary[v] || d == 0 || normals[v].squaredNorm() == 0) continue;
+    Vec3 centre = Vec3::Zero();
+    for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) centre += points[*w];
+    const double r = std::abs((centre / d - points[v]).dot(normals[v]));
+    if (!std::isfinite(r)) continue;
+    residual.push_back(r);
+    inflation += 1.0 + 1.0 / d;
+  }
+  if (residual.empty()) return 0.0;
+  inflation /= double(residual.size());
+  auto middle = residual.begin() + residual.size() / 2;
+  std::nth_element(residual.begin(), middle, residual.end());
+  return *middle / 0.6745 / std::sqrt(inflation);
+}
+
+// Smooths `points` in place (see the file comment). `progress(fraction)` may return false to
+// cancel; `points` are then left as they were.
+inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                         const Rings &rings, const std::vector<std::uint8_t> &fixed,
+                                         const std::vector<std::array<int, 2>> &curve,
+                                         const BandShrinkParams &params,
+                                         const std::function<bool(double)> &progress = nullptr) {
+  BandShrinkReport report;
+  const int n = rings.vertex_count;
+  const std::vector<int> &edges = params.band_pairs;
+  const int bands = int(edges.size()) - 1;
+  if (bands < 1 || n == 0) return report;
+  std::vector<Vec3> normals;
+  computeVertexNormals(points, faces, rings, normals);
+  report.noise_sigma =
+      params.noise_scale * estimateNormalNoiseSigma(points, rings, fixed, normals);
+  if (!(report.noise_sigma > 0)) {
+    report.gains.assign(bands, 1.0);
+    return report;
+  }
+
+  // The scale space and the probe's, one Taubin run each; the probe's bands are consumed at once.
+  std::vector<std::vector<Vec3>> snapshot(bands + 1);
+  std::vector<Vec3> probe(n), probe_previous;
+  for (int v = 0; v < n; ++v)
+    probe[v] = report.noise_sigma * detail::positionHashedGaussian(points[v]);
+  std::vector<std::uint8_t> counted(n);
+  long count = 0;
+  for (int v = 0; v < n; ++v) {
+    counted[v] = !fixed[v] && rings.ring1Size(v) > 0;
+    count += counted[v];
+  }
+  if (count == 0) {
+    report.gains.assign(bands, 1.0);
+    return report;
+  }
+  std::vector<double> noise_energy(bands, 0.0);
+  snapshot[0] = points;
+  taubinSmooth(snapshot[0], rings, fixed, curve, edges[0]);
+  taubinSmooth(probe, rings, fixed, curve, edges[0]);
+  std::vector<std::uint8_t> band_fixed(fixed);
+  for (int b = 0; b < bands; ++b) {
+    if (edges[b] >= params.boundary_pairs)
+      for (int v = 0; v < n; ++v) band_fixed[v] |= rings.boundary[v];
+    snapshot[b + 1] = snapshot[b];
+    taubinSmooth(snapshot[b + 1], rings, band_fixed, curve, edges[b + 1] - edges[b]);
+    probe_previous = probe;
+    taubinSmooth(probe, rings, band_fixed, curve, edges[b + 1] - edges[b]);
+    // Three independent probes in one: the components; a band's noise along the normal has their
+    // mean variance.
+    for (int v = 0; v < n; ++v)
+      if (counted[v]) noise_energy[b] += (probe_previous[v] - probe[v]).squaredNorm() / 3.0;
+    if (progress && !progress(0.9 * (b + 1) / bands)) {
+      report.cancelled = true;
+      return report;
+    }
+  }
+  const auto normal_at =
+      std::find(edges.begin(), edges.end(), params.normal_pairs) - edges.begin();
+  computeVertexNormals(snapshot[std::min<long>(normal_at, bands)], faces, rings, normals);
+  std::vector<double> energy(bands, 0.0);
+  for (int b = 0; b < bands; ++b)
+    for (int v = 0; v < n; ++v)
+      if (counted[v]) {
+        const double along = (snapshot[b][v] - snapshot[b + 1][v]).dot(normals[v]);
+        energy[b] += along * along;
+      }
+  const int fine = std::clamp(params.fine_band, 0, bands - 1);
+  report.fine_snr = std::max(energy[fine] - noise_energy[fine], 0.0) / noise_energy[fine];
+  report.detail = std::clamp((report.fine_snr - params.fine_snr_smooth) /
+                                 (params.fine_snr_detailed - params.fine_snr_smooth),
+                             0.0, 1.0);
+  report.alpha = params.alpha_smooth + report.detail * (params.alpha_detailed - params.alpha_smooth);
+  report.gains.resize(bands);
+  for (int b = 0; b < bands; ++b)
+    report.gains[b] = energy[b] > 0
+                          ? std::clamp(1.0 - report.alpha * noise_energy[b] / energy[b], 0.0, 1.0)
+                          : 1.0;
+  // Coarse base plus every band times its gain.
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+  for (int v = 0; v < n; ++v) {
+    Vec3 p = snapshot[bands][v];
+    for (int b = 0; b < bands; ++b) p += report.gains[b] * (snapshot[b][v] - snapshot[b + 1][v]);
+    if (p.allFinite()) points[v] = p;
+  }
+  return report;
+}
+
+} // namespace vcg_ext
