@@ -79,9 +79,12 @@ inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
                                     (params.noisy_spread_deg - params.clean_spread_deg),
                                 0.0, 1.0);
   report.seconds_topology = seconds(t);
+  if (progress && !progress(5, "Noise estimate")) return report.cancelled = true, report;
 
   std::vector<Vec3> current = mesh.points;
   const bool noisy = report.roughness > 0 && edge > 0;
+  if (progress && !progress(6, noisy ? "Band shrinkage" : "The mesh measures as clean"))
+    return report.cancelled = true, report;
   if (noisy) {
     t = clock::now();
     BandShrinkParams bands = params.bands;
@@ -89,7 +92,7 @@ inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
     report.bands = bandShrinkSmooth(current, mesh.faces, rings, fixed, roles.boundary_neighbours,
                                     bands, [&](double fraction) {
                                       return !progress ||
-                                             progress(int(80 * fraction), "Band shrinkage");
+                                             progress(5 + int(75 * fraction), "Band shrinkage");
                                     });
     report.seconds_bands = seconds(t);
     if (report.bands.cancelled) return report.cancelled = true, report;
@@ -143,6 +146,7 @@ inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
     report.seconds_patches = seconds(t);
   }
 
+  if (progress && !progress(95, "Result quantities")) return report.cancelled = true, report;
   t = clock::now();
   report.vertices_moved = detail::describeResult(mesh.points, current, mesh.faces, rings,
                                                  params.saliency_scale * stats.bbox_diagonal,
