@@ -70,7 +70,7 @@ inline std::string filterDescription(FilterId id) {
          "(scaled by the measured noise), guided normal filtering (Zhang et al. 2015) and each "
          "vertex moved onto bi-quadratic patches of its faces (Sun et al. 2007's update). "
          "<i>Organic scan (band shrinkage)</i> is for organic shapes with noise in all directions "
-         "(body scans, photogrammetry): the differences of Taubin results at 0, 1, 2, 4 ... 256 "
+         "(body scans, photogrammetry): the differences of Taubin results at 0, 1, 2, 4 ... 128 "
          "steps are frequency bands, each kept in proportion to how much of it is shape rather "
          "than noise (the noise level is measured from the mesh), then one face-patch update."
          "<br>All vertices of an iteration move at once; non-manifold and isolated vertices and "

@@ -9,7 +9,7 @@
 // Why: with noise in random 3-D directions on organic meshes, Taubin at its best step count beats
 // every range-kernel filter we measured, and that best count differs per mesh (10 pairs for the
 // armadillo, 47 for the lion head: bench/FEATURE_MODE.md). The differences between Taubin results
-// at 0, 1, 2, 4, … 256 pairs split the mesh into frequency bands; each band is kept in proportion
+// at 0, 1, 2, 4, … 128 pairs split the mesh into frequency bands; each band is kept in proportion
 // to how much of its energy is shape rather than noise. The noise energy of a band is known: the
 // same Taubin steps applied to a random field with the noise's variance (a probe). The noise
 // variance is the robust spread of the normal component of the 1-ring Laplacian. So the amount of
@@ -17,7 +17,8 @@
 //
 // θ (face normals) wants more smoothing than the position error does when the mesh is smooth at
 // the scale of its edges; the shape energy left in the 4–8 pair band tells the two kinds apart
-// (bench/random_noise/scale_selection.py: α 3 below a band SNR of 0.12, α 1 above 0.18).
+// (bench/random_noise/scale_selection.py, bench/FEATURE_MODE.md: α 3 at a band SNR up to 0.12,
+// α 1 from 0.16; the four meshes the constants were chosen on read 0.06, 0.12-0.13, 0.17, 0.5).
 //
 // The probe's values come from a hash of each vertex's position, and every sum runs in vertex
 // order on one thread, so the result does not depend on the vertex order or the thread count.
@@ -33,11 +34,16 @@ namespace vcg_ext {
 
 struct BandShrinkParams {
   // Band edges in Taubin pairs; the last one is the coarse base, kept whole.
-  std::vector<int> band_pairs = {0, 1, 2, 4, 8, 16, 32, 64, 128, 256};
+  std::vector<int> band_pairs = {0, 1, 2, 4, 8, 16, 32, 64, 128};
+  // Taubin's λ|μ. A pair multiplies the frequencies just below its pass band by up to
+  // 1 + (λ+μ)²/(4|λμ|): 1.00085 for MeshLab's 0.5 / −0.53, which compounds to ×1.24 over 256
+  // pairs (the dino's spikes and legs grew, then the volume restoration flipped 160 of their
+  // faces: θ 16.5 against Taubin's best 14.7); 1.0001 for −0.51, ×1.013 over 128 pairs.
+  double lambda = 0.5, mu = -0.51;
   int normal_pairs = 8;           // the band energies are taken along the normals of this snapshot
   int fine_band = 3;              // index of the band whose shape-to-noise ratio chooses α (4–8)
   double fine_snr_smooth = 0.12;  // at or below: α = alpha_smooth
-  double fine_snr_detailed = 0.18; // at or above: α = alpha_detailed; linear in between
+  double fine_snr_detailed = 0.16; // at or above: α = alpha_detailed; linear in between
   double alpha_smooth = 3.0, alpha_detailed = 1.0;
   double noise_scale = 1.0;       // multiplies the noise estimate (0: nothing is removed)
   // Boundary vertices follow their boundary curve for at most this many pairs, then stay: a curve
@@ -45,6 +51,10 @@ struct BandShrinkParams {
   // 1.44 at 32, 1.31 at 16), while the faces along a noisy boundary need the smoothing (elephant
   // θ: 14.99 unlimited, 15.08 at 32, 15.19 at 16). bench/FEATURE_MODE.md.
   int boundary_pairs = 32;
+  // Extra probes for the fine band alone (they run only up to its upper edge, a few pairs): α
+  // hangs on that band's ratio, which one probe measures to a few percent (the armadillo read 0.18
+  // or 0.19 depending on its coordinates' rounding, on either side of fine_snr_detailed).
+  int fine_band_probes = 8;
 };
 
 struct BandShrinkReport {
@@ -59,9 +69,10 @@ struct BandShrinkReport {
 namespace detail {
 
 // A standard normal value from a vertex's position: the same vertex gets the same value whatever
-// its index (SplitMix64 over the coordinates' bits, then Box-Muller).
-inline Vec3 positionHashedGaussian(const Vec3 &p) {
-  std::uint64_t h = 0x9E3779B97F4A7C15ull;
+// its index (SplitMix64 over the coordinates' bits, then Box-Muller); `stream` gives independent
+// values for the same position.
+inline Vec3 positionHashedGaussian(const Vec3 &p, std::uint64_t stream = 0) {
+  std::uint64_t h = 0x9E3779B97F4A7C15ull * (stream + 1);
   auto mix = [](std::uint64_t z) {
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
@@ -149,18 +160,22 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
     report.gains.assign(bands, 1.0);
     return report;
   }
+  const double lambda = params.lambda, mu = params.mu;
   std::vector<double> noise_energy(bands, 0.0);
   snapshot[0] = points;
-  taubinSmooth(snapshot[0], rings, fixed, curve, edges[0]);
-  taubinSmooth(probe, rings, fixed, curve, edges[0]);
-  std::vector<std::uint8_t> band_fixed(fixed);
+  taubinSmooth(snapshot[0], rings, fixed, curve, edges[0], lambda, mu);
+  taubinSmooth(probe, rings, fixed, curve, edges[0], lambda, mu);
+  // Boundary vertices stop following their curve from band `boundary_pairs` on.
+  std::vector<std::uint8_t> fixed_boundary(fixed);
+  for (int v = 0; v < n; ++v) fixed_boundary[v] |= rings.boundary[v];
+  auto band_fixed = [&](int b) -> const std::vector<std::uint8_t> & {
+    return edges[b] >= params.boundary_pairs ? fixed_boundary : fixed;
+  };
   for (int b = 0; b < bands; ++b) {
-    if (edges[b] >= params.boundary_pairs)
-      for (int v = 0; v < n; ++v) band_fixed[v] |= rings.boundary[v];
     snapshot[b + 1] = snapshot[b];
-    taubinSmooth(snapshot[b + 1], rings, band_fixed, curve, edges[b + 1] - edges[b]);
+    taubinSmooth(snapshot[b + 1], rings, band_fixed(b), curve, edges[b + 1] - edges[b], lambda, mu);
     probe_previous = probe;
-    taubinSmooth(probe, rings, band_fixed, curve, edges[b + 1] - edges[b]);
+    taubinSmooth(probe, rings, band_fixed(b), curve, edges[b + 1] - edges[b], lambda, mu);
     // Three independent probes in one: the components; a band's noise along the normal has their
     // mean variance.
     for (int v = 0; v < n; ++v)
@@ -181,7 +196,20 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
         energy[b] += along * along;
       }
   const int fine = std::clamp(params.fine_band, 0, bands - 1);
-  report.fine_snr = std::max(energy[fine] - noise_energy[fine], 0.0) / noise_energy[fine];
+  double fine_noise = noise_energy[fine];
+  for (int extra = 1; extra <= params.fine_band_probes; ++extra) {
+    for (int v = 0; v < n; ++v)
+      probe[v] = report.noise_sigma * detail::positionHashedGaussian(points[v], extra);
+    taubinSmooth(probe, rings, fixed, curve, edges[0], lambda, mu);
+    for (int b = 0; b < fine; ++b)
+      taubinSmooth(probe, rings, band_fixed(b), curve, edges[b + 1] - edges[b], lambda, mu);
+    probe_previous = probe;
+    taubinSmooth(probe, rings, band_fixed(fine), curve, edges[fine + 1] - edges[fine], lambda, mu);
+    for (int v = 0; v < n; ++v)
+      if (counted[v]) fine_noise += (probe_previous[v] - probe[v]).squaredNorm() / 3.0;
+  }
+  fine_noise /= 1 + std::max(0, params.fine_band_probes);
+  report.fine_snr = std::max(energy[fine] - fine_noise, 0.0) / fine_noise;
   report.detail = std::clamp((report.fine_snr - params.fine_snr_smooth) /
                                  (params.fine_snr_detailed - params.fine_snr_smooth),
                              0.0, 1.0);

@@ -35,6 +35,7 @@ struct OrganicSmoothReport {
   long frozen_vertices = 0, boundary_vertices = 0;
   long plane_fallbacks = 0, rejected_moves = 0;
   int patch_updates = 0;
+  double patch_step = 0;   // fraction of the way onto the patches per update
   double dihedral_spread_deg = 0, roughness = 0;
   BandShrinkReport bands;
   double volume_before = 0, volume_after = 0;
@@ -102,11 +103,12 @@ inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
     std::vector<FacePatch> patches(face_count);
     // Patches take out curvature bias where the mesh is smooth at the scale of a face's
     // neighbourhood and add error where it has detail at that scale (measured: lion head 7.17 ->
-    // 7.01 with two updates, armadillo 10.57 -> 10.94): as many as the band shrinkage found it
-    // smooth.
-    report.patch_updates =
-        int(std::lround(params.max_patch_updates * (1.0 - report.bands.detail)));
-    const int patch_updates = report.patch_updates;
+    // 7.01 with two updates, armadillo 10.57 -> 10.94): each update moves the vertices the
+    // fraction of the way onto their patches that the band shrinkage found the mesh smooth, so the
+    // result changes continuously with that measurement.
+    report.patch_step = 1.0 - report.bands.detail;
+    const int patch_updates = report.patch_step > 0 ? params.max_patch_updates : 0;
+    report.patch_updates = patch_updates;
     for (int update = 0; update < patch_updates; ++update) {
       computeFaceGeometry(current, mesh.faces, geometry);
       double mean_area = 0;
@@ -121,7 +123,8 @@ inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
       for (int v = 0; v < n; ++v) {
         next[v] = current[v];
         if (fixed[v] || rings.ring1Size(v) == 0) continue;
-        Vec3 moved = moveOntoFacePatches(v, current[v], rings, patches);
+        Vec3 moved = current[v] + report.patch_step *
+                                      (moveOntoFacePatches(v, current[v], rings, patches) - current[v]);
         if (rings.boundary[v])
           moved = detail::constrainBoundaryMove(v, moved, current, vertex_normals, roles,
                                                 BoundaryMode::NoInward);

@@ -93,7 +93,7 @@ TEST(BandShrink, WithoutNoiseEveryBandIsKept) {
   const BandShrinkReport r = bandShrinkSmooth(points, plane.faces, s.rings, s.fixed,
                                               s.roles.boundary_neighbours, BandShrinkParams());
   EXPECT_EQ(r.noise_sigma, 0.0);
-  EXPECT_EQ(r.gains, std::vector<double>(9, 1.0));
+  EXPECT_EQ(r.gains, std::vector<double>(BandShrinkParams().band_pairs.size() - 1, 1.0));
   EXPECT_EQ(points, plane.points);
 }
 
@@ -122,21 +122,20 @@ TEST(BandShrink, NoisySphereComesCloseToTaubinAtItsBestStepCount) {
   std::vector<Vec3> shrunk = noisy.points;
   const BandShrinkReport r = bandShrinkSmooth(shrunk, noisy.faces, s.rings, s.fixed,
                                               s.roles.boundary_neighbours, BandShrinkParams());
-  // The noise estimate, the finest bands removed, the coarsest kept, gains rising with scale.
+  // The noise estimate, the finest bands removed, gains rising with scale (a sphere's shape is
+  // all in the coarse base, which is kept whole: its bands hold little but noise).
   EXPECT_NEAR(r.noise_sigma / (0.25 * meanEdge(clean)), 1.0, 0.15);
   EXPECT_EQ(r.gains.front(), 0.0);
-  EXPECT_GT(r.gains.back(), 0.9);
   for (size_t b = 1; b < r.gains.size(); ++b) EXPECT_GE(r.gains[b], r.gains[b - 1]) << b;
   // A sphere is smooth at the edge scale: the strong setting.
   EXPECT_EQ(r.alpha, BandShrinkParams().alpha_smooth);
-  // A sphere is the smoothest shape there is: the more smoothing the better, and even α = 3 keeps
-  // more of the middle bands than Taubin's best count (measured 2.57° vs 2.04°; bench/
-  // FEATURE_MODE.md: the smoothest held-out meshes, bear and mushroom, lose the same way).
+  // Measured 1.58° vs 2.04° (with MeshLab's μ = −0.53 and 256 pairs, 2.57°: Taubin's pass-band
+  // gain compounds over many pairs, see BandShrinkParams::mu).
   const double best_taubin = bestTaubinTheta(noisy, clean);
   const double theta = deviation(shrunk, clean).theta_deg;
   RecordProperty("theta_band_shrink", std::to_string(theta));
   RecordProperty("theta_taubin_best", std::to_string(best_taubin));
-  EXPECT_LT(theta, 1.35 * best_taubin);
+  EXPECT_LT(theta, best_taubin);
   EXPECT_LT(theta, 0.25 * deviation(noisy.points, clean).theta_deg);
 }
 
@@ -167,9 +166,8 @@ TEST(OrganicSmooth, RandomNoiseOnAClosedMeshIsRemovedAndTheVolumeKept) {
   const double best_taubin = bestTaubinTheta(noisy, clean);
   RecordProperty("theta_organic", std::to_string(after.theta_deg));
   RecordProperty("theta_taubin_best", std::to_string(best_taubin));
-  // The patch updates close part of the band shrinkage's gap on this smoothest of shapes
-  // (measured 2.28° vs Taubin's best 1.99°; see the band shrinkage's test).
-  EXPECT_LT(after.theta_deg, 1.2 * best_taubin);
+  // Measured 1.52° vs Taubin's best 1.99°.
+  EXPECT_LT(after.theta_deg, 0.9 * best_taubin);
   EXPECT_NEAR(report.volume_after / report.volume_before, 1.0, 1e-4);
   EXPECT_NEAR(report.volume_after / signedVolume(clean.points, clean.faces), 1.0, 0.005);
 }
