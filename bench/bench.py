@@ -65,9 +65,10 @@ PEER_SWEEP = {
 PEER_TIMING = {"Laplacian": {"steps": 5}, "HC Laplacian": {"repeat": 1},
                "Taubin": {"steps": 10}, "TwoStep": {"steps": 3, "thr": 60}}
 OURS = {  # label -> smooth_mesh overrides (placement: 0 ring barycentre, 1 patch point, 2 Newton,
-    # 3 feature-preserving face patches)
+    # 3 feature-preserving face patches, 4 organic band shrinkage)
     "ours default": [],
     "ours feature-preserving": ["placement=3"],
+    "ours organic": ["placement=4"],
     "ours patch point": ["placement=1"],
     "ours paper (safeguard)": ["placement=2"],
     "ours paper (as printed)": ["placement=2", "newton_step_limit=0"],
@@ -584,7 +585,7 @@ def machine_info():
             "load": f"{os.getloadavg()[0]:.2f}"}
 
 
-SUMMARY_COLUMNS = (["noisy", "ours default", "ours feature-preserving"] +
+SUMMARY_COLUMNS = (["noisy", "ours default", "ours feature-preserving", "ours organic"] +
                    [f"{p} {w}" for p in PEERS for w in ("default", "best")])
 
 
@@ -713,9 +714,10 @@ def targets_section(timing):
 
 
 def summary_section(cases, quality, timing):
-    modes = ("ours default", "ours feature-preserving")
+    modes = ("ours default", "ours feature-preserving", "ours organic")
     L = ["| case | noisy θ / Ev | ours default θ / Ev | ours feature-preserving θ / Ev | "
-         "best MeshLab (by θ) | its θ / Ev | best MeshLab Ev |", "|---|---|---|---|---|---|---|"]
+         "ours organic θ / Ev | best MeshLab (by θ) | its θ / Ev | best MeshLab Ev |",
+         "|---|---|---|---|---|---|---|---|"]
     wins = {m: [0, 0] for m in modes}  # theta, Ev
     for case in cases:
         r = quality[case["name"]]

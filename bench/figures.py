@@ -52,7 +52,8 @@ def before_after(case, r, rotation, path):
     peer_label, peer = best_peer(r)
     panels = [("noisy", case["noisy"], r["noisy"])]
     for label, key in (("ours (default)", "ours default"),
-                       ("ours (feature-preserving)", "ours feature-preserving")):
+                       ("ours (feature-preserving)", "ours feature-preserving"),
+                       ("ours (organic)", "ours organic")):
         if "path" in r.get(key, {}):
             panels.append((label, r[key]["path"], r[key]))
     if peer is not None:
@@ -177,7 +178,7 @@ def make_all(runner, cases, quality, curves, timing, img_dir, quick):
         file = "before_after_" + name.replace(" ", "_").replace(".", "") + ".png"
         before_after(by_name[name], quality[name], render.view_rotation(az, el, up),
                      img_dir / file)
-        pictures.append((f"{name}: noisy, ours (default, feature-preserving), best MeshLab filter, clean", file))
+        pictures.append((f"{name}: noisy, ours (default, feature-preserving, organic), best MeshLab filter, clean", file))
         done += 1
     if saliency_map(runner, cases, img_dir / "saliency.png", quick):
         pictures.append(("Saliency heat map", "saliency.png"))

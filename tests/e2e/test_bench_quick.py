@@ -34,8 +34,8 @@ def test_quick_benchmark_produces_finite_tables(tmp_path):
     for heading in SUMMARY_SECTIONS:
         table = section(text, heading)
         header = numbers(next(l for l in table.splitlines() if l.startswith("| case |")))
-        assert header[1:5] == ["noisy", "ours default", "ours feature-preserving",
-                               "Laplacian default"]
+        assert header[1:6] == ["noisy", "ours default", "ours feature-preserving",
+                               "ours organic", "Laplacian default"]
         for case in QUICK_CASES:
             rows = [l for l in table.splitlines() if l.startswith(f"| {case} |")]
             assert len(rows) == 1, (heading, case)
@@ -53,6 +53,7 @@ def test_quick_benchmark_produces_finite_tables(tmp_path):
                                             if l.startswith(f"| {case} |")))))
         assert float(row["ours default"]) < float(row["noisy"]), row
         assert float(row["ours feature-preserving"]) < float(row["noisy"]), row
+        assert float(row["ours organic"]) < float(row["noisy"]), row
         for peer in ["Laplacian best", "HC Laplacian best", "Taubin best"]:
             assert float(row[peer]) < float(row["noisy"]), (case, peer)
 
