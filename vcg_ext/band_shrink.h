@@ -52,8 +52,8 @@ struct BandShrinkParams {
   // θ: 14.99 unlimited, 15.08 at 32, 15.19 at 16). bench/FEATURE_MODE.md.
   int boundary_pairs = 32;
   // Extra probes for the fine band alone (they run only up to its upper edge, a few pairs): α
-  // hangs on that band's ratio, which one probe measures to a few percent (the armadillo read 0.18
-  // or 0.19 depending on its coordinates' rounding, on either side of fine_snr_detailed).
+  // hangs on that band's ratio, which one probe measures to a few percent (with one probe the
+  // armadillo read 0.17-0.19 depending on how its coordinates were rounded, and α moved with it).
   int fine_band_probes = 8;
 };
 
@@ -209,7 +209,7 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
       if (counted[v]) fine_noise += (probe_previous[v] - probe[v]).squaredNorm() / 3.0;
   }
   fine_noise /= 1 + std::max(0, params.fine_band_probes);
-  report.fine_snr = std::max(energy[fine] - fine_noise, 0.0) / fine_noise;
+  report.fine_snr = fine_noise > 0 ? std::max(energy[fine] - fine_noise, 0.0) / fine_noise : 0.0;
   report.detail = std::clamp((report.fine_snr - params.fine_snr_smooth) /
                                  (params.fine_snr_detailed - params.fine_snr_smooth),
                              0.0, 1.0);
