@@ -205,13 +205,9 @@ inline std::string clampedLog(long clamped) {
                 double(clamped));
 }
 
-inline std::vector<std::string> featureLog(const vcg_ext::FeatureSmoothReport &r, size_t vertices) {
-  std::vector<std::string> log;
-  log.push_back(format("Feature-preserving mode, %.0f passes: %.0f of %.0f vertices moved.",
-                       r.outer_iterations_done, double(r.vertices_moved), double(vertices)));
-  log.push_back(format("Noise estimate (dihedral spread) %.1f deg, roughness %.2f: %.0f Taubin "
-                       "pre-pass pairs, %.0f normal filter iterations per pass.",
-                       r.dihedral_spread_deg, r.roughness, r.prepass_pairs, r.normal_iterations));
+// The lines the feature-preserving and organic drivers' reports share.
+template <class DriverReport>
+void appendDriverLog(const DriverReport &r, std::vector<std::string> &log) {
   if (r.frozen_vertices > 0)
     log.push_back(format("Skipped (left in place): %.0f non-manifold, isolated or on degenerate "
                          "faces.",
@@ -223,6 +219,16 @@ inline std::vector<std::string> featureLog(const vcg_ext::FeatureSmoothReport &r
   if (r.closed && r.volume_before != 0)
     log.push_back(format("Volume %g -> %g (ratio %.4f).", r.volume_before, r.volume_after,
                          r.volume_after / r.volume_before));
+}
+
+inline std::vector<std::string> featureLog(const vcg_ext::FeatureSmoothReport &r, size_t vertices) {
+  std::vector<std::string> log;
+  log.push_back(format("Feature-preserving mode, %.0f passes: %.0f of %.0f vertices moved.",
+                       r.outer_iterations_done, double(r.vertices_moved), double(vertices)));
+  log.push_back(format("Noise estimate (dihedral spread) %.1f deg, roughness %.2f: %.0f Taubin "
+                       "pre-pass pairs, %.0f normal filter iterations per pass.",
+                       r.dihedral_spread_deg, r.roughness, r.prepass_pairs, r.normal_iterations));
+  appendDriverLog(r, log);
   log.push_back(format("Time: topology and pre-pass %.3f s, normal filtering %.3f s, vertex "
                        "updates %.3f s, result quantities %.3f s.",
                        r.seconds_topology + r.seconds_prepass, r.seconds_normals,
@@ -244,17 +250,7 @@ inline std::vector<std::string> organicLog(const vcg_ext::OrganicSmoothReport &r
   log.push_back(gains + ".");
   if (r.roughness == 0)
     log.push_back("The mesh measures as clean: left as it is.");
-  if (r.frozen_vertices > 0)
-    log.push_back(format("Skipped (left in place): %.0f non-manifold, isolated or on degenerate "
-                         "faces.",
-                         double(r.frozen_vertices)));
-  if (r.plane_fallbacks + r.rejected_moves > 0)
-    log.push_back(format("Patch fits that fell back to the face plane: %.0f; non-finite moves "
-                         "kept in place: %.0f.",
-                         double(r.plane_fallbacks), double(r.rejected_moves)));
-  if (r.closed && r.volume_before != 0)
-    log.push_back(format("Volume %g -> %g (ratio %.4f).", r.volume_before, r.volume_after,
-                         r.volume_after / r.volume_before));
+  appendDriverLog(r, log);
   log.push_back(format("Time: topology %.3f s, band shrinkage %.3f s, patch update %.3f s, result "
                        "quantities %.3f s.",
                        r.seconds_topology, r.seconds_bands, r.seconds_patches,

@@ -126,6 +126,58 @@ inline long describeResult(const std::vector<Vec3> &input, const std::vector<Vec
   return moved;
 }
 
+// What both face-patch drivers (this one and organic_smooth.h) set up once per run: topology,
+// which vertices may move (not frozen, selected when only the selection is smoothed), and the
+// input's enclosed volume.
+struct DriverSetup {
+  Rings rings;
+  EdgeStatistics stats;
+  VertexRoles roles;
+  FaceRings face_rings;
+  std::vector<std::uint8_t> fixed;
+  long frozen_vertices = 0, boundary_vertices = 0; // boundary: the movable ones
+  bool closed = false;
+  double volume_before = 0;
+};
+
+inline DriverSetup driverSetup(const MeshArrays &mesh, bool selected_only) {
+  DriverSetup s;
+  const int n = int(mesh.points.size());
+  s.rings = computeRings(n, mesh.faces);
+  s.stats = edgeStatistics(mesh.points, s.rings);
+  s.roles = vertexRoles(mesh, s.rings, s.stats.mean_edge_length);
+  s.face_rings = computeFaceRings(mesh.faces, s.rings);
+  s.closed = s.rings.boundary_edges == 0 && s.rings.nonmanifold_edges == 0;
+  s.fixed.assign(n, 0);
+  for (int v = 0; v < n; ++v) {
+    s.fixed[v] = s.roles.frozen[v] || (selected_only && !mesh.selected[v]);
+    s.frozen_vertices += s.roles.frozen[v];
+    s.boundary_vertices += s.rings.boundary[v] && !s.fixed[v];
+  }
+  s.volume_before = signedVolume(mesh.points, mesh.faces);
+  return s;
+}
+
+// The noise estimate as a roughness 0 (clean) .. 1 (noisy): linear in the median dihedral spread
+// between the two thresholds.
+inline double roughnessOf(double spread_deg, double clean_spread_deg, double noisy_spread_deg) {
+  return std::clamp((spread_deg - clean_spread_deg) / (noisy_spread_deg - clean_spread_deg), 0.0,
+                    1.0);
+}
+
+// Gives a closed mesh its input volume back by offsets along the vertex normals of the movable
+// vertices. The offset is first-order in the lost volume; a second round takes out what curvature
+// leaves (coarse sphere: 1.2 % lost, 6e-4 after one round).
+inline void restoreInputVolume(std::vector<Vec3> &points, const DriverSetup &setup,
+                               const std::vector<Face> &faces, std::vector<Vec3> &normals) {
+  std::vector<std::uint8_t> movable(setup.fixed.size());
+  for (size_t v = 0; v < movable.size(); ++v) movable[v] = !setup.fixed[v];
+  for (int round = 0; round < 2; ++round)
+    if (!restoreVolume(points, faces, setup.rings, movable, setup.volume_before,
+                       setup.stats.mean_edge_length, normals))
+      break;
+}
+
 } // namespace detail
 
 inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
@@ -141,20 +193,18 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
   const int n = int(mesh.points.size());
   const int face_count = int(mesh.faces.size());
   auto t = clock::now();
-  const Rings rings = computeRings(n, mesh.faces);
-  const EdgeStatistics stats = edgeStatistics(mesh.points, rings);
-  const detail::VertexRoles roles = detail::vertexRoles(mesh, rings, stats.mean_edge_length);
-  const FaceRings face_rings = computeFaceRings(mesh.faces, rings);
+  const detail::DriverSetup setup = detail::driverSetup(mesh, params.selected_only);
+  const Rings &rings = setup.rings;
+  const EdgeStatistics &stats = setup.stats;
+  const detail::VertexRoles &roles = setup.roles;
+  const FaceRings &face_rings = setup.face_rings;
+  const std::vector<std::uint8_t> &fixed = setup.fixed;
   report.mean_edge_length = stats.mean_edge_length;
   report.bbox_diagonal = stats.bbox_diagonal;
-  report.closed = rings.boundary_edges == 0 && rings.nonmanifold_edges == 0;
-  std::vector<std::uint8_t> fixed(n, 0);
-  for (int v = 0; v < n; ++v) {
-    fixed[v] = roles.frozen[v] || (params.selected_only && !mesh.selected[v]);
-    report.frozen_vertices += roles.frozen[v];
-    report.boundary_vertices += rings.boundary[v] && !fixed[v];
-  }
-  report.volume_before = signedVolume(mesh.points, mesh.faces);
+  report.closed = setup.closed;
+  report.frozen_vertices = setup.frozen_vertices;
+  report.boundary_vertices = setup.boundary_vertices;
+  report.volume_before = setup.volume_before;
   report.seconds_topology = seconds(t);
   const double edge = stats.mean_edge_length;
   const int outer = std::max(0, params.outer_iterations);
@@ -179,9 +229,8 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
   // armadillo: 11°; clean elephant at r = 0.3: 11°). The price: noise below ~0.12 mean edge
   // lengths is left as it is.
   report.dihedral_spread_deg = medianDihedralSpreadDeg(current, mesh.faces, geometry, face_rings);
-  report.roughness = std::clamp((report.dihedral_spread_deg - params.clean_spread_deg) /
-                                    (params.noisy_spread_deg - params.clean_spread_deg),
-                                0.0, 1.0);
+  report.roughness = detail::roughnessOf(report.dihedral_spread_deg, params.clean_spread_deg,
+                                         params.noisy_spread_deg);
   report.prepass_pairs = int(std::lround(report.roughness * std::max(0, params.prepass_pairs)));
   NormalFilterParams normal_filter = params.normals;
   normal_filter.iterations = int(std::lround(report.roughness * std::max(0, params.normals.iterations)));
@@ -282,16 +331,8 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
     report.outer_iterations_done = pass + 1;
   }
 
-  if (params.preserve_volume && report.closed && vertex_iterations > 0 && edge > 0) {
-    std::vector<std::uint8_t> movable(n);
-    for (int v = 0; v < n; ++v) movable[v] = !fixed[v];
-    // The offset is first-order in the lost volume; a second round takes out what curvature
-    // leaves (coarse sphere: 1.2 % lost, 6e-4 after one round).
-    for (int round = 0; round < 2; ++round)
-      if (!detail::restoreVolume(current, mesh.faces, rings, movable, report.volume_before, edge,
-                                 vertex_normals))
-        break;
-  }
+  if (params.preserve_volume && report.closed && vertex_iterations > 0 && edge > 0)
+    detail::restoreInputVolume(current, setup, mesh.faces, vertex_normals);
 
   t = clock::now();
   report.vertices_moved = detail::describeResult(mesh.points, current, mesh.faces, rings,

@@ -61,28 +61,23 @@ inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
   const int n = int(mesh.points.size());
   const int face_count = int(mesh.faces.size());
   auto t = clock::now();
-  const Rings rings = computeRings(n, mesh.faces);
-  const EdgeStatistics stats = edgeStatistics(mesh.points, rings);
-  const detail::VertexRoles roles = detail::vertexRoles(mesh, rings, stats.mean_edge_length);
-  const FaceRings face_rings = computeFaceRings(mesh.faces, rings);
-  const double edge = stats.mean_edge_length;
+  const detail::DriverSetup setup = detail::driverSetup(mesh, params.selected_only);
+  const Rings &rings = setup.rings;
+  const detail::VertexRoles &roles = setup.roles;
+  const std::vector<std::uint8_t> &fixed = setup.fixed;
+  const double edge = setup.stats.mean_edge_length;
   report.mean_edge_length = edge;
-  report.bbox_diagonal = stats.bbox_diagonal;
-  report.closed = rings.boundary_edges == 0 && rings.nonmanifold_edges == 0;
-  std::vector<std::uint8_t> fixed(n, 0);
-  for (int v = 0; v < n; ++v) {
-    fixed[v] = roles.frozen[v] || (params.selected_only && !mesh.selected[v]);
-    report.frozen_vertices += roles.frozen[v];
-    report.boundary_vertices += rings.boundary[v] && !fixed[v];
-  }
-  report.volume_before = signedVolume(mesh.points, mesh.faces);
+  report.bbox_diagonal = setup.stats.bbox_diagonal;
+  report.closed = setup.closed;
+  report.frozen_vertices = setup.frozen_vertices;
+  report.boundary_vertices = setup.boundary_vertices;
+  report.volume_before = setup.volume_before;
   FaceGeometry geometry;
   computeFaceGeometry(mesh.points, mesh.faces, geometry);
   report.dihedral_spread_deg =
-      medianDihedralSpreadDeg(mesh.points, mesh.faces, geometry, face_rings);
-  report.roughness = std::clamp((report.dihedral_spread_deg - params.clean_spread_deg) /
-                                    (params.noisy_spread_deg - params.clean_spread_deg),
-                                0.0, 1.0);
+      medianDihedralSpreadDeg(mesh.points, mesh.faces, geometry, setup.face_rings);
+  report.roughness = detail::roughnessOf(report.dihedral_spread_deg, params.clean_spread_deg,
+                                         params.noisy_spread_deg);
   report.seconds_topology = seconds(t);
   if (progress && !progress(5, "Noise estimate")) return report.cancelled = true, report;
 
@@ -106,10 +101,10 @@ inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
     std::vector<Vec3> next(current), vertex_normals;
     std::vector<FacePatch> patches(face_count);
     // Patches take out curvature bias where the mesh is smooth at the scale of a face's
-    // neighbourhood and add error where it has detail at that scale (measured: lion head 7.17 ->
-    // 7.01 with two updates, armadillo 10.57 -> 10.94): each update moves the vertices the
-    // fraction of the way onto their patches that the band shrinkage found the mesh smooth, so the
-    // result changes continuously with that measurement.
+    // neighbourhood and add error where it has detail at that scale (measured with the earlier
+    // 0.5/-0.53 bands: lion head 7.17 -> 7.01 with two updates, armadillo 10.57 -> 10.94): each
+    // update moves the vertices the fraction of the way onto their patches that the band
+    // shrinkage found the mesh smooth, so the result changes continuously with that measurement.
     report.patch_step = 1.0 - report.bands.detail;
     const int patch_updates = report.patch_step > 0 ? params.max_patch_updates : 0;
     report.patch_updates = patch_updates;
@@ -120,7 +115,7 @@ inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
       long fallbacks = 0, rejected = 0;
 #pragma omp parallel for schedule(static) reduction(+ : fallbacks) if (face_count >= min_parallel_vertices)
       for (int f = 0; f < face_count; ++f)
-        fallbacks += !fitFacePatch(f, current, mesh.faces, face_rings, geometry, geometry.normal,
+        fallbacks += !fitFacePatch(f, current, mesh.faces, setup.face_rings, geometry, geometry.normal,
                                    mean_area, edge, params.patches, patches[f]);
       if (report.boundary_vertices) computeVertexNormals(current, mesh.faces, rings, vertex_normals);
 #pragma omp parallel for schedule(static) reduction(+ : rejected) if (n >= min_parallel_vertices)
@@ -142,21 +137,15 @@ inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
                                 "Patch update"))
         return report.cancelled = true, report;
     }
-    if (params.preserve_volume && report.closed) {
-      std::vector<std::uint8_t> movable(n);
-      for (int v = 0; v < n; ++v) movable[v] = !fixed[v];
-      for (int round = 0; round < 2; ++round)
-        if (!detail::restoreVolume(current, mesh.faces, rings, movable, report.volume_before, edge,
-                                   vertex_normals))
-          break;
-    }
+    if (params.preserve_volume && report.closed)
+      detail::restoreInputVolume(current, setup, mesh.faces, vertex_normals);
     report.seconds_patches = seconds(t);
   }
 
   if (progress && !progress(95, "Result quantities")) return report.cancelled = true, report;
   t = clock::now();
   report.vertices_moved = detail::describeResult(mesh.points, current, mesh.faces, rings,
-                                                 params.saliency_scale * stats.bbox_diagonal,
+                                                 params.saliency_scale * setup.stats.bbox_diagonal,
                                                  quantities);
   report.seconds_quantities = seconds(t);
   report.volume_after = signedVolume(current, mesh.faces);
