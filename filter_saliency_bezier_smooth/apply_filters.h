@@ -9,7 +9,7 @@
 #include <vcg/complex/algorithms/update/normal.h>
 #include <vcg/complex/complex.h>
 #include <vcg_ext/feature_smooth.h>
-#include <vcg_ext/organic_smooth.h>
+#include <vcg_ext/auto_smooth.h>
 #include <vcg_ext/smooth.h>
 
 #include <chrono>
@@ -258,6 +258,24 @@ inline std::vector<std::string> organicLog(const vcg_ext::OrganicSmoothReport &r
   return log;
 }
 
+inline std::vector<std::string> autoLog(const vcg_ext::AutoSmoothReport &r, size_t vertices) {
+  std::vector<std::string> log;
+  log.push_back(format("Automatic mode: after guided filtering %.2f of the edges are flat and "
+                       "%.2f of the creases are still creases after plain Taubin smoothing: ",
+                       r.evidence.flat_share, r.evidence.confirmed_share) +
+                (r.chose_feature ? "sharp features, feature-preserving mode."
+                                 : "no sharp features, organic mode."));
+  const std::vector<std::string> rest =
+      r.chose_feature ? featureLog(r.feature, vertices) : organicLog(r.organic, vertices);
+  log.insert(log.end(), rest.begin(), rest.end());
+  if (!r.chose_feature)
+    log.push_back(format("Time of the decision (feature mode's pre-pass and first normal "
+                         "filtering, Taubin reference): %.3f s.",
+                         r.feature.seconds_topology + r.feature.seconds_prepass +
+                             r.feature.seconds_normals + r.seconds_reference));
+  return log;
+}
+
 } // namespace detail
 
 inline vcg_ext::SmoothParams smoothParamsOf(const ParameterValues &p) {
@@ -295,7 +313,7 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
   const vcg_ext::MeshArrays arrays = vcg_ext::extractArrays(m);
   out.error = detail::rejectMesh(m, arrays);
   for (const auto &check : {detail::checkRange(p, "iterations", 0, 1000),
-                            detail::checkRange(p, "placement", 0, 4),
+                            detail::checkRange(p, "placement", 0, 5),
                             detail::checkRange(p, "alpha", 0, 1),
                             detail::checkRange(p, "uniform_curvature", 0, 1),
                             detail::checkRange(p, "boundary", 0, 3),
@@ -326,6 +344,21 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
     if (r.cancelled) return out.error = "Cancelled: the mesh is unchanged.", out;
     const long clamped = detail::storeSmoothingResult(m, arrays, result, q, int(p.at("quality")));
     out.log = detail::featureLog(r, arrays.points.size());
+    if (clamped > 0) out.log.push_back(detail::clampedLog(clamped));
+    out.ok = true;
+    return out;
+  }
+  if (int(p.at("placement")) == 5) {
+    vcg_ext::AutoSmoothParams automatic;
+    for (bool *flag : {&automatic.feature.selected_only, &automatic.organic.selected_only})
+      *flag = params.selected_only;
+    automatic.feature.preserve_volume = automatic.organic.preserve_volume = params.preserve_volume;
+    automatic.feature.saliency_scale = automatic.organic.saliency_scale = params.saliency_scale;
+    const vcg_ext::AutoSmoothReport r =
+        vcg_ext::autoSmoothMesh(arrays, automatic, result, q, detail::progressOf(cb));
+    if (r.cancelled) return out.error = "Cancelled: the mesh is unchanged.", out;
+    const long clamped = detail::storeSmoothingResult(m, arrays, result, q, int(p.at("quality")));
+    out.log = detail::autoLog(r, arrays.points.size());
     if (clamped > 0) out.log.push_back(detail::clampedLog(clamped));
     out.ok = true;
     return out;

@@ -101,7 +101,7 @@ inline const std::vector<ParamSpec> &parameterSpecs(FilterId id) {
        "all directions). These two use only 'Affect only selected vertices', 'Preserve volume' "
        "and 'Store in vertex quality'.",
        {"Ring barycentre", "Patch point", "Paper (Newton)", "Feature-preserving (face patches)",
-        "Organic scan (band shrinkage)"}},
+        "Organic scan (band shrinkage)", "Automatic (feature-preserving or organic)"}},
       {ParamKind::Bool, "alpha_override", 1, "Override alpha",
        "Use the fixed alpha below everywhere instead of the paper's Saliency_min/Saliency_max "
        "over the neighbourhood (measured: the paper's rule degenerates near zero saliency)."},

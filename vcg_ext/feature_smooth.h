@@ -61,6 +61,7 @@ struct FeatureSmoothParams {
 
 struct FeatureSmoothReport {
   bool cancelled = false;
+  bool declined = false;        // the first-pass check said no: nothing was changed
   int outer_iterations_done = 0;
   long vertices_moved = 0;
   long frozen_vertices = 0;     // non-manifold, isolated or on a degenerate face: never moved
@@ -180,11 +181,18 @@ inline void restoreInputVolume(std::vector<Vec3> &points, const DriverSetup &set
 
 } // namespace detail
 
+// Sees the first pass's filtered face normals before any vertex moves; false stops the driver
+// (report.declined, out_points untouched). The automatic mode decides with it (auto_smooth.h)
+// without paying for the filtering twice.
+using FilteredNormalsCheck = std::function<bool(const std::vector<Vec3> &filtered_normals,
+                                                const detail::DriverSetup &setup)>;
+
 inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
                                              const FeatureSmoothParams &params,
                                              std::vector<Vec3> &out_points,
                                              VertexQuantities &quantities,
-                                             const ProgressFn &progress = nullptr) {
+                                             const ProgressFn &progress = nullptr,
+                                             const FilteredNormalsCheck &first_pass_check = nullptr) {
   using clock = std::chrono::steady_clock;
   auto seconds = [](clock::time_point a) {
     return std::chrono::duration<double>(clock::now() - a).count();
@@ -257,6 +265,8 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
                                    : detail::featureTangentProjector(v, rings, filtered);
     }
     report.seconds_normals += seconds(t);
+    if (pass == 0 && first_pass_check && !first_pass_check(filtered, setup))
+      return report.declined = true, report;
     if (!report_progress(pass, 0.4, "Filtering normals")) return report.cancelled = true, report;
 
     t = clock::now();

@@ -1,0 +1,189 @@
+// The automatic mode: the sharp-feature evidence of vcg_ext/mode_choice.h (closed-form counts on a
+// box, no confirmed creases on a sphere whose normals were made staircase) and the driver of
+// vcg_ext/auto_smooth.h (a noisy box goes to the feature mode and a noisy sphere to the organic
+// mode, with the chosen mode's exact result; the decision does not depend on thread count or
+// vertex order; progress only grows and cancel stops).
+#include <gtest/gtest.h>
+#include <omp.h>
+#include <support/analytic_meshes.h>
+#include <vcg_ext/auto_smooth.h>
+
+using namespace vcg_ext;
+
+namespace {
+
+double meanEdge(const MeshArrays &m) {
+  return edgeStatistics(m.points, computeRings(int(m.points.size()), m.faces)).mean_edge_length;
+}
+
+FaceRings faceRingsOf(const MeshArrays &m) {
+  return computeFaceRings(m.faces, computeRings(int(m.points.size()), m.faces));
+}
+
+std::vector<Vec3> faceNormals(const MeshArrays &m) {
+  FaceGeometry g;
+  computeFaceGeometry(m.points, m.faces, g);
+  return g.normal;
+}
+
+MeshArrays withNormalNoise(const MeshArrays &clean, double sigma, unsigned seed) {
+  MeshArrays noisy = clean;
+  std::vector<Vec3> normals;
+  computeVertexNormals(clean.points, clean.faces,
+                       computeRings(int(clean.points.size()), clean.faces), normals);
+  test_meshes::addNoise(noisy, sigma, seed, [&](int i) { return normals[i]; });
+  return noisy;
+}
+
+MeshArrays withRandomNoise(const MeshArrays &clean, double sigma, unsigned seed) {
+  MeshArrays noisy = clean;
+  test_meshes::addNoise(noisy, sigma, seed);
+  return noisy;
+}
+
+AutoSmoothReport autoSmoothed(const MeshArrays &mesh, std::vector<Vec3> &out) {
+  VertexQuantities q;
+  return autoSmoothMesh(mesh, AutoSmoothParams(), out, q);
+}
+
+} // namespace
+
+TEST(SharpFeatureEvidence, BoxWithItsOwnNormalsHasOnlyFlatEdgesAndConfirmedCreases) {
+  const int n = 6;
+  const MeshArrays box = test_meshes::box(1.0, 0.8, 0.6, n);
+  const std::vector<Vec3> normals = faceNormals(box);
+  const SharpFeatureEvidence e = sharpFeatureEvidence(normals, normals, faceRingsOf(box));
+  // Closed: every edge is shared by two faces; the box's 12 edges have n mesh edges each.
+  EXPECT_EQ(e.edges, long(box.faces.size()) * 3 / 2);
+  EXPECT_EQ(e.crease_pairs, 12L * n);
+  EXPECT_EQ(e.confirmed_pairs, 12L * n);
+  EXPECT_EQ(e.flat_pairs, e.edges - 12L * n);
+  EXPECT_DOUBLE_EQ(e.confirmed_share, 1.0);
+  EXPECT_DOUBLE_EQ(e.flat_share, double(e.edges - 12L * n) / double(e.edges));
+}
+
+TEST(SharpFeatureEvidence, InventedCreasesOnASphereAreNotConfirmed) {
+  const MeshArrays sphere = test_meshes::icosphere(1.0, 4);
+  const std::vector<Vec3> exact = faceNormals(sphere);
+  // A staircase: every normal snapped to the nearest of the six axis directions (what a range
+  // kernel does to a curved surface, in the extreme).
+  std::vector<Vec3> staircase(exact.size());
+  for (size_t f = 0; f < exact.size(); ++f) {
+    int axis;
+    exact[f].cwiseAbs().maxCoeff(&axis);
+    staircase[f] = Vec3::Zero();
+    staircase[f][axis] = exact[f][axis] > 0 ? 1 : -1;
+  }
+  const SharpFeatureEvidence e = sharpFeatureEvidence(staircase, exact, faceRingsOf(sphere));
+  EXPECT_GT(e.crease_pairs, 100);
+  EXPECT_EQ(e.confirmed_pairs, 0); // neighbouring faces of the sphere differ by a few degrees
+  EXPECT_GT(e.flat_share, 0.8);    // inside each of the six cells
+  // The sphere's own normals: no crease, and no edge flat to 1° at this resolution.
+  const SharpFeatureEvidence own = sharpFeatureEvidence(exact, exact, faceRingsOf(sphere));
+  EXPECT_EQ(own.crease_pairs, 0);
+  EXPECT_EQ(own.flat_pairs, 0);
+  EXPECT_EQ(own.confirmed_share, 0.0);
+}
+
+TEST(SharpFeatureEvidence, DegenerateFacesAreSkipped) {
+  const MeshArrays box = test_meshes::box(1.0, 1.0, 1.0, 2);
+  std::vector<Vec3> normals = faceNormals(box);
+  normals[0] = Vec3::Zero();
+  const SharpFeatureEvidence e = sharpFeatureEvidence(normals, faceNormals(box), faceRingsOf(box));
+  EXPECT_EQ(e.edges, long(box.faces.size()) * 3 / 2 - 3);
+}
+
+TEST(AutoSmooth, NoisyBoxGoesToTheFeatureModeWithItsExactResult) {
+  const MeshArrays clean = test_meshes::box(1.0, 0.8, 0.6, 16);
+  const MeshArrays noisy = withNormalNoise(clean, 0.3 * meanEdge(clean), 3);
+  std::vector<Vec3> out, feature;
+  const AutoSmoothReport r = autoSmoothed(noisy, out);
+  VertexQuantities q;
+  featureSmoothMesh(noisy, FeatureSmoothParams(), feature, q);
+  EXPECT_TRUE(r.chose_feature);
+  EXPECT_FALSE(r.feature.declined);
+  EXPECT_GT(r.evidence.flat_share, AutoSmoothParams().feature_flat_share);
+  EXPECT_EQ(out, feature);
+  RecordProperty("flat_share", std::to_string(r.evidence.flat_share));
+  RecordProperty("confirmed_share", std::to_string(r.evidence.confirmed_share));
+}
+
+TEST(AutoSmooth, NoisySphereGoesToTheOrganicModeWithItsExactResult) {
+  const MeshArrays clean = test_meshes::icosphere(1.0, 4);
+  const MeshArrays noisy = withRandomNoise(clean, 0.25 * meanEdge(clean), 5);
+  std::vector<Vec3> out, organic;
+  const AutoSmoothReport r = autoSmoothed(noisy, out);
+  VertexQuantities q;
+  organicSmoothMesh(noisy, OrganicSmoothParams(), organic, q);
+  EXPECT_FALSE(r.chose_feature);
+  EXPECT_TRUE(r.feature.declined);
+  EXPECT_LT(r.evidence.flat_share, AutoSmoothParams().feature_flat_share);
+  EXPECT_LT(r.evidence.confirmed_share, AutoSmoothParams().feature_confirmed_share);
+  EXPECT_EQ(out, organic);
+  const auto theta = [&](const std::vector<Vec3> &p) {
+    return normalDeviation(p, clean.points, clean.faces, buildEdgeTable(clean.faces)).theta_deg;
+  };
+  EXPECT_LT(theta(out), 0.1 * theta(noisy.points));
+  EXPECT_NEAR(r.organic.volume_after / signedVolume(clean.points, clean.faces), 1.0, 0.005);
+  RecordProperty("flat_share", std::to_string(r.evidence.flat_share));
+  RecordProperty("confirmed_share", std::to_string(r.evidence.confirmed_share));
+}
+
+TEST(AutoSmooth, CleanMeshesStayAsTheyAre) {
+  for (const MeshArrays &clean :
+       {test_meshes::box(1.0, 0.8, 0.6, 16), test_meshes::icosphere(1.0, 4)}) {
+    std::vector<Vec3> out;
+    autoSmoothed(clean, out);
+    EXPECT_LT(normalDeviation(out, clean.points, clean.faces, buildEdgeTable(clean.faces)).theta_deg,
+              1.0);
+  }
+}
+
+TEST(AutoSmooth, SameDecisionAndResultForOneAndTwoThreadsAndPermutedVertices) {
+  const MeshArrays clean = test_meshes::icosphere(1.0, 3);
+  const MeshArrays noisy = withRandomNoise(clean, 0.25 * meanEdge(clean), 8);
+  const int threads = omp_get_max_threads();
+  std::vector<Vec3> one, two, shuffled;
+  omp_set_num_threads(1);
+  const AutoSmoothReport r1 = autoSmoothed(noisy, one);
+  omp_set_num_threads(2);
+  const AutoSmoothReport r2 = autoSmoothed(noisy, two);
+  omp_set_num_threads(threads);
+  EXPECT_EQ(one, two);
+  EXPECT_EQ(r1.evidence.flat_pairs, r2.evidence.flat_pairs);
+  EXPECT_EQ(r1.evidence.confirmed_pairs, r2.evidence.confirmed_pairs);
+
+  const std::vector<int> perm = test_meshes::shuffledPermutation(int(noisy.points.size()), 3);
+  const AutoSmoothReport rp = autoSmoothed(test_meshes::permuted(noisy, perm), shuffled);
+  EXPECT_EQ(rp.chose_feature, r1.chose_feature);
+  EXPECT_EQ(rp.evidence.crease_pairs, r1.evidence.crease_pairs);
+  double worst = 0;
+  for (size_t i = 0; i < one.size(); ++i) worst = std::max(worst, (shuffled[perm[i]] - one[i]).norm());
+  EXPECT_LT(worst, 1e-9);
+}
+
+TEST(AutoSmooth, ProgressOnlyGrowsAndCancelStops) {
+  const MeshArrays clean = test_meshes::icosphere(1.0, 3);
+  const MeshArrays noisy = withRandomNoise(clean, 0.25 * meanEdge(clean), 9);
+  std::vector<int> seen;
+  std::vector<Vec3> out;
+  VertexQuantities q;
+  const AutoSmoothReport r = autoSmoothMesh(noisy, AutoSmoothParams(), out, q,
+                                            [&](int percent, const char *) {
+                                              seen.push_back(percent);
+                                              return true;
+                                            });
+  ASSERT_FALSE(r.chose_feature); // the organic path: two drivers' progress in one range
+  ASSERT_GT(seen.size(), 3u);
+  for (size_t i = 1; i < seen.size(); ++i) EXPECT_GE(seen[i], seen[i - 1]) << i;
+  EXPECT_LE(seen.back(), 100);
+
+  for (int stop_at : {1, 4}) { // in the decision, and in the organic mode
+    int calls = 0;
+    std::vector<Vec3> cancelled;
+    const AutoSmoothReport stopped = autoSmoothMesh(
+        noisy, AutoSmoothParams(), cancelled, q, [&](int, const char *) { return ++calls < stop_at; });
+    EXPECT_TRUE(stopped.cancelled) << stop_at;
+    EXPECT_EQ(calls, stop_at);
+  }
+}
