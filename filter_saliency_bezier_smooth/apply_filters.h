@@ -268,11 +268,16 @@ inline std::vector<std::string> autoLog(const vcg_ext::AutoSmoothReport &r, size
   const std::vector<std::string> rest =
       r.chose_feature ? featureLog(r.feature, vertices) : organicLog(r.organic, vertices);
   log.insert(log.end(), rest.begin(), rest.end());
-  if (!r.chose_feature)
-    log.push_back(format("Time of the decision (feature mode's pre-pass and first normal "
-                         "filtering, Taubin reference): %.3f s.",
-                         r.feature.seconds_topology + r.feature.seconds_prepass +
-                             r.feature.seconds_normals + r.seconds_reference));
+  if (r.chose_feature)
+    log.push_back(format("Time of the decision: shared topology %.3f s, Taubin copy and evidence "
+                         "%.3f s.",
+                         r.seconds_setup, r.seconds_reference));
+  else
+    log.push_back(format("Time of the decision: shared topology %.3f s, the feature mode's "
+                         "pre-pass and first normal filter iterations %.3f s, Taubin copy and "
+                         "evidence %.3f s.",
+                         r.seconds_setup, r.feature.seconds_prepass + r.feature.seconds_normals,
+                         r.seconds_reference));
   return log;
 }
 

@@ -23,6 +23,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <optional>
+
 namespace vcg_ext {
 
 // Measured on the public benchmark (bench/FEATURE_MODE.md): a narrower spatial kernel and range
@@ -181,8 +183,11 @@ inline void restoreInputVolume(std::vector<Vec3> &points, const DriverSetup &set
 
 } // namespace detail
 
-// Sees the first pass's filtered face normals before any vertex moves; false stops the driver
-// (report.declined, out_points untouched). The automatic mode decides with it (auto_smooth.h)
+// `given_setup` (optional): the topology and roles of `mesh` with the same selected_only, when the
+// caller has them already (the automatic mode shares them between both drivers).
+// `first_pass_check` (optional) sees the first pass's face normals after the first guidance period of the normal filter (4
+// iterations), before any vertex moves; false stops the driver (report.declined, out_points
+// untouched). The automatic mode decides with it (auto_smooth.h)
 // without paying for the filtering twice.
 using FilteredNormalsCheck = std::function<bool(const std::vector<Vec3> &filtered_normals,
                                                 const detail::DriverSetup &setup)>;
@@ -192,7 +197,8 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
                                              std::vector<Vec3> &out_points,
                                              VertexQuantities &quantities,
                                              const ProgressFn &progress = nullptr,
-                                             const FilteredNormalsCheck &first_pass_check = nullptr) {
+                                             const FilteredNormalsCheck &first_pass_check = nullptr,
+                                             const detail::DriverSetup *given_setup = nullptr) {
   using clock = std::chrono::steady_clock;
   auto seconds = [](clock::time_point a) {
     return std::chrono::duration<double>(clock::now() - a).count();
@@ -201,7 +207,9 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
   const int n = int(mesh.points.size());
   const int face_count = int(mesh.faces.size());
   auto t = clock::now();
-  const detail::DriverSetup setup = detail::driverSetup(mesh, params.selected_only);
+  std::optional<detail::DriverSetup> own_setup;
+  if (!given_setup) own_setup.emplace(detail::driverSetup(mesh, params.selected_only));
+  const detail::DriverSetup &setup = given_setup ? *given_setup : *own_setup;
   const Rings &rings = setup.rings;
   const EdgeStatistics &stats = setup.stats;
   const detail::VertexRoles &roles = setup.roles;
@@ -256,7 +264,30 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
   for (int pass = 0; pass < outer && edge > 0; ++pass) {
     t = clock::now();
     computeFaceGeometry(current, mesh.faces, geometry);
-    filterNormals(mesh.faces, face_rings, geometry, normal_filter, edge, filtered);
+    // The first-pass check sees the normals after the first guidance period; the filter then
+    // goes on from there (guidance is recomputed every `guidance_every` iterations from the
+    // current normals and the spatial weights depend on the unchanged geometry, so the split
+    // gives the same normals as one call).
+    const int check_iterations =
+        pass == 0 && first_pass_check
+            ? std::min(normal_filter.iterations, std::max(1, normal_filter.guidance_every))
+            : 0;
+    if (check_iterations > 0) {
+      NormalFilterParams first = normal_filter;
+      first.iterations = check_iterations;
+      filterNormals(mesh.faces, face_rings, geometry, first, edge, filtered);
+      if (!first_pass_check(filtered, setup)) {
+        report.seconds_normals += seconds(t);
+        return report.declined = true, report;
+      }
+      NormalFilterParams rest = normal_filter;
+      rest.iterations = normal_filter.iterations - check_iterations;
+      FaceGeometry partly_filtered = geometry;
+      partly_filtered.normal = filtered;
+      filterNormals(mesh.faces, face_rings, partly_filtered, rest, edge, filtered);
+    } else {
+      filterNormals(mesh.faces, face_rings, geometry, normal_filter, edge, filtered);
+    }
     if (params.tangential > 0) {
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
       for (int v = 0; v < n; ++v)
@@ -265,8 +296,6 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
                                    : detail::featureTangentProjector(v, rings, filtered);
     }
     report.seconds_normals += seconds(t);
-    if (pass == 0 && first_pass_check && !first_pass_check(filtered, setup))
-      return report.declined = true, report;
     if (!report_progress(pass, 0.4, "Filtering normals")) return report.cancelled = true, report;
 
     t = clock::now();
