@@ -65,8 +65,9 @@ PEER_SWEEP = {
 PEER_TIMING = {"Laplacian": {"steps": 5}, "HC Laplacian": {"repeat": 1},
                "Taubin": {"steps": 10}, "TwoStep": {"steps": 3, "thr": 60}}
 OURS = {  # label -> smooth_mesh overrides (placement: 0 ring barycentre, 1 patch point, 2 Newton,
-    # 3 feature-preserving face patches, 4 organic band shrinkage)
-    "ours default": [],
+    # 3 feature-preserving face patches, 4 organic band shrinkage, 5 automatic: 3 or 4, the default)
+    "ours automatic (default)": [],
+    "ours ring barycentre": ["placement=0"],
     "ours feature-preserving": ["placement=3"],
     "ours organic": ["placement=4"],
     "ours patch point": ["placement=1"],
@@ -404,10 +405,11 @@ def quality_tasks(cases, quick):
             tasks += [(case, peer, s) for s in PEER_SWEEP[peer]]
         if case["group"] == "cgal":
             continue
-        tasks.append((case, "ours meshlabserver", []))
+        tasks.append((case, "ours meshlabserver", ["placement=0"]))
         if quick and i > 0:
             continue  # quick mode: the theta-vs-iterations curves of the first case only
-        tasks += [(case, "ours", [f"iterations={n}"]) for n in OURS_ITERATIONS]
+        tasks += [(case, "ours", ["placement=0", f"iterations={n}"])
+                  for n in OURS_ITERATIONS]
         tasks += [(case, "Taubin", {"steps": n}) for n in TAUBIN_ITERATIONS]
         tasks += [(case, "Laplacian", {"steps": n}) for n in LAPLACIAN_ITERATIONS]
     return tasks
@@ -420,7 +422,7 @@ def run_quality(runner, cases, quick):
         for label, overrides in OURS.items():
             r[label] = runner.quality(case, "ours", overrides)
         if case["group"] != "cgal":
-            r["ours via meshlabserver"] = runner.quality(case, "ours meshlabserver", [])
+            r["ours via meshlabserver"] = runner.quality(case, "ours meshlabserver", ["placement=0"])
         for peer in PEERS:
             r[peer + " default"] = runner.quality(case, peer, PEER_DEFAULT[peer])
             best, best_setting = None, None
@@ -440,7 +442,7 @@ def run_quality(runner, cases, quick):
 
 
 def run_iterations(runner, cases, quality, quick):
-    """theta vs iterations for ours default, Taubin and Laplacian on the literature + paper cases
+    """theta vs iterations for ours ring barycentre, Taubin and Laplacian on the literature + paper cases
     (quick mode: the first case only)."""
     curves = {}
     for case in cases[:1] if quick else cases:
@@ -448,8 +450,8 @@ def run_iterations(runner, cases, quality, quick):
             continue
         c = {}
         noisy = quality[case["name"]]["noisy"]["theta_deg"]
-        c["ours default"] = [(0, noisy)] + [
-            (n, runner.quality(case, "ours", [f"iterations={n}"]).get("theta_deg"))
+        c["ours ring barycentre"] = [(0, noisy)] + [
+            (n, runner.quality(case, "ours", ["placement=0", f"iterations={n}"]).get("theta_deg"))
             for n in OURS_ITERATIONS]
         c["Taubin"] = [(0, noisy)] + [
             (n, runner.quality(case, "Taubin", {"steps": n}).get("theta_deg"))
@@ -466,7 +468,7 @@ def run_agreement(runner, cases, quality):
     rows = []
     for case in cases:
         r = quality[case["name"]]
-        a, b = r.get("ours default", {}), r.get("ours via meshlabserver", {})
+        a, b = r.get("ours ring barycentre", {}), r.get("ours via meshlabserver", {})
         if "path" not in a or "path" not in b:
             continue
         pa, _, _ = meshio.read_mesh(a["path"])
@@ -491,7 +493,10 @@ def peer_applications(vertices):
 def run_timing(runner, meshes, runs):
     """Interleaved: every method once per round, `runs` rounds, medians. A method slower than
     SLOW_RUN_SECONDS in round 1 is run once only (the table says how many runs)."""
+    # "ours": the ring barycentre (the smoothing issue's default, the time reference of issue 8);
+    # the automatic mode (the default now) on one thread beside it.
     methods = [("ours in-process", None), ("ours in-process, 1 thread", None),
+               ("ours automatic in-process, 1 thread", None),
                ("ours in meshlabserver", None), ("load+save only", None)]
     methods += [(f"{p} {peer_setting_text(p, PEER_TIMING[p])}", p) for p in PEERS]
     table = {}
@@ -505,11 +510,15 @@ def run_timing(runner, meshes, runs):
                 if rnd > 0 and samples[label][0]["wall"] > SLOW_RUN_SECONDS:
                     continue
                 if label == "ours in-process":
-                    r = runner.smooth_inprocess(mesh["path"], out, [], timed=True)
+                    r = runner.smooth_inprocess(mesh["path"], out, ["placement=0"], timed=True)
                 elif label == "ours in-process, 1 thread":
+                    r = runner.smooth_inprocess(mesh["path"], out, ["placement=0"], timed=True,
+                                                threads=1)
+                elif label == "ours automatic in-process, 1 thread":
                     r = runner.smooth_inprocess(mesh["path"], out, [], timed=True, threads=1)
                 elif label == "ours in meshlabserver":
-                    r = runner.meshlab(mesh["path"], out, runner.ours_mlx([]), timed=True)
+                    r = runner.meshlab(mesh["path"], out, runner.ours_mlx(["placement=0"]),
+                                       timed=True)
                     r["stages"] = parse_stages(r["log"])
                 elif label == "load+save only":
                     r = runner.meshlab(mesh["path"], out, None, timed=True)
@@ -526,7 +535,7 @@ def run_timing(runner, meshes, runs):
             m = {"wall": statistics.median(x["wall"] for x in s),
                  "rss": statistics.median(x["rss"] for x in s if x["rss"] is not None),
                  "walls": [x["wall"] for x in s], "runs": len(s)}
-            if label.startswith("ours in-process"):
+            if "in-process" in label:
                 m["filter"] = statistics.median(x["filter"] for x in s)
             elif label != "load+save only":
                 applications = 1 if label.startswith("ours") else times
@@ -585,7 +594,8 @@ def machine_info():
             "load": f"{os.getloadavg()[0]:.2f}"}
 
 
-SUMMARY_COLUMNS = (["noisy", "ours default", "ours feature-preserving", "ours organic"] +
+SUMMARY_COLUMNS = (["noisy", "ours automatic (default)", "ours ring barycentre",
+                    "ours feature-preserving", "ours organic"] +
                    [f"{p} {w}" for p in PEERS for w in ("default", "best")])
 
 
@@ -629,8 +639,8 @@ BILATERAL = {"Fandisk0.3": (3.49, 1.02), "Block0.4": (7.06, 1.58), "SharpSphere0
 
 
 def normal_filtering_section(cases, quality):
-    """The feature-preserving mode against the published normal-filtering figures (issue 8)."""
-    L = ["| case | noisy θ / Ev | ours feature-preserving θ / Ev | θ sharp noisy → ours | "
+    """The automatic mode (the default) against the published normal-filtering figures (issue 8)."""
+    L = ["| case | noisy θ / Ev | ours automatic (default) θ / Ev | θ sharp noisy → ours | "
          "guided normal filtering | bilateral normal filtering | best MeshLab θ / Ev | "
          "beats guided on θ and Ev |", "|---|---|---|---|---|---|---|---|"]
     wins = rows = 0
@@ -638,7 +648,7 @@ def normal_filtering_section(cases, quality):
         if case["name"] not in GNF:
             continue
         r = quality[case["name"]]
-        ours, noisy = r["ours feature-preserving"], r["noisy"]
+        ours, noisy = r["ours automatic (default)"], r["noisy"]
         g, b = GNF[case["name"]], BILATERAL[case["name"]]
         _, peer = best_meshlab(r)
         win = finite(ours.get("theta_deg")) and ours["theta_deg"] < g[0] and \
@@ -652,8 +662,8 @@ def normal_filtering_section(cases, quality):
                  f"{fmt(peer.get('theta_deg'))} / {fmt(peer.get('ev_1e3'))} | "
                  f"{'yes' if win else 'no'} |")
     L.append("")
-    L.append(f"The feature-preserving mode beats guided normal filtering on both θ and Ev on {wins} "
-             f"of {rows} cases.")
+    L.append(f"The automatic mode (which runs the feature-preserving mode on these four) beats "
+             f"guided normal filtering on both θ and Ev on {wins} of {rows} cases.")
     return "\n".join(L)
 
 
@@ -714,10 +724,12 @@ def targets_section(timing):
 
 
 def summary_section(cases, quality, timing):
-    modes = ("ours default", "ours feature-preserving", "ours organic")
-    L = ["| case | noisy θ / Ev | ours default θ / Ev | ours feature-preserving θ / Ev | "
-         "ours organic θ / Ev | best MeshLab (by θ) | its θ / Ev | best MeshLab Ev |",
-         "|---|---|---|---|---|---|---|---|"]
+    modes = ("ours automatic (default)", "ours ring barycentre", "ours feature-preserving",
+             "ours organic")
+    L = ["| case | noisy θ / Ev | ours automatic (default) θ / Ev | ours ring barycentre θ / Ev | "
+         "ours feature-preserving θ / Ev | ours organic θ / Ev | best MeshLab (by θ) | its θ / Ev "
+         "| best MeshLab Ev |",
+         "|---|---|---|---|---|---|---|---|---|"]
     wins = {m: [0, 0] for m in modes}  # theta, Ev
     for case in cases:
         r = quality[case["name"]]
@@ -764,7 +776,7 @@ def detail_table(case, r):
     rows = [("noisy input", "", r["noisy"])]
     rows += [(label, "", r[label]) for label in OURS]
     if "ours via meshlabserver" in r:
-        rows.append(("ours default via meshlabserver", "", r["ours via meshlabserver"]))
+        rows.append(("ours ring barycentre via meshlabserver", "", r["ours via meshlabserver"]))
     for p in PEERS:
         rows.append((p, "default " + peer_setting_text(p, PEER_DEFAULT[p]), r[p + " default"]))
         rows.append((p, "best: " + r[p + " best"].get("setting", "-"), r[p + " best"]))
@@ -842,7 +854,7 @@ def write_results(path, img_rel, args, machine, cases, quality, agreement, timin
     L.append("## Summary\n")
     L.append(summary_section(lit + cg, quality, timing) + "\n")
     if any(c["name"] in GNF for c in lit):
-        L.append("## Feature-preserving mode vs published normal filtering (issue 8)\n")
+        L.append("## Automatic (default) mode vs published normal filtering (issue 8)\n")
         L.append(normal_filtering_section(lit, quality) + "\n")
     if timing and not args.quick:
         L.append("## Speed targets (issue 7)\n")
@@ -862,8 +874,11 @@ def write_results(path, img_rel, args, machine, cases, quality, agreement, timin
              "mean inward move of boundary vertices in mean edge lengths (open meshes); "
              "**flipped faces** faces whose normal is more than 90° from the clean one.")
     L.append("- Ours: `tools/smooth_mesh` (the plugin's core, in-process, double precision) at the "
-             "filter's defaults (3 iterations, ring-barycentre placement) and in its feature-preserving "
-             "mode (`placement=3`, face patches on guided-filtered normals); variants: patch point "
+             "filter's default (the automatic mode, `placement=5`: the feature-preserving or the "
+             "organic mode, chosen from the mesh), in its ring-barycentre placement (`placement=0`, "
+             "3 iterations: the paper's patch, the default before issue 8), its feature-preserving "
+             "mode (`placement=3`, face patches on guided-filtered normals) and its organic mode "
+             "(`placement=4`, Taubin band shrinkage); variants: patch point "
              "placement, the paper's Newton placement with the step safeguard (1 mean edge) and "
              "as printed (`newton_step_limit=0`). Ours through the real meshlabserver (float "
              "build) is checked against in-process below.")

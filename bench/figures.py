@@ -51,7 +51,8 @@ def before_after(case, r, rotation, path):
     frame = render.camera_frame(cam)
     peer_label, peer = best_peer(r)
     panels = [("noisy", case["noisy"], r["noisy"])]
-    for label, key in (("ours (default)", "ours default"),
+    for label, key in (("ours (automatic, default)", "ours automatic (default)"),
+                       ("ours (ring barycentre)", "ours ring barycentre"),
                        ("ours (feature-preserving)", "ours feature-preserving"),
                        ("ours (organic)", "ours organic")):
         if "path" in r.get(key, {}):
@@ -121,7 +122,7 @@ def iterations_plot(curves, path):
     rows = (len(names) + cols - 1) // cols
     fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, 2.6 * rows), squeeze=False)
     for ax, name in zip(axes.flat, names):
-        for label, style in (("ours default", "o-"), ("Taubin", "s-"), ("Laplacian", "^-")):
+        for label, style in (("ours ring barycentre", "o-"), ("Taubin", "s-"), ("Laplacian", "^-")):
             pts = [(n, t) for n, t in curves[name][label] if t is not None]
             if pts:
                 x, y = zip(*pts)

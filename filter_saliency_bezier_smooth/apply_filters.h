@@ -260,11 +260,15 @@ inline std::vector<std::string> organicLog(const vcg_ext::OrganicSmoothReport &r
 
 inline std::vector<std::string> autoLog(const vcg_ext::AutoSmoothReport &r, size_t vertices) {
   std::vector<std::string> log;
-  log.push_back(format("Automatic mode: after guided filtering %.2f of the edges are flat and "
-                       "%.2f of the creases are still creases after plain Taubin smoothing: ",
-                       r.evidence.flat_share, r.evidence.confirmed_share) +
-                (r.chose_feature ? "sharp features, feature-preserving mode."
-                                 : "no sharp features, organic mode."));
+  if (r.decided)
+    log.push_back(format("Automatic mode: after guided filtering %.3f of the edges are flat and "
+                         "%.3f of the creases are still creases after plain Taubin smoothing: ",
+                         r.evidence.flat_share, r.evidence.confirmed_share) +
+                  (r.chose_feature ? "sharp features, feature-preserving mode."
+                                   : "no sharp features, organic mode."));
+  else
+    log.push_back("Automatic mode: the mesh measures as clean (see the noise estimate below): "
+                  "left as it is.");
   const std::vector<std::string> rest =
       r.chose_feature ? featureLog(r.feature, vertices) : organicLog(r.organic, vertices);
   log.insert(log.end(), rest.begin(), rest.end());

@@ -56,23 +56,29 @@ inline std::string filterDescription(FilterId id) {
            "<b>GaussianCurvature</b>, <b>K1</b>, <b>K2</b>, and the principal directions in the "
            "per-vertex curvature directions. Boundary vertices take the mean of their interior "
            "neighbours' curvatures. The mesh's positions are not changed.";
-  return "Smoothing after \"A new feature-preserving mesh-smoothing algorithm\" "
-         "(The Visual Computer, 2009): per vertex, principal curvatures (Meyer et al. 2003) and "
-         "mesh saliency (Lee et al. 2005), a weighted bi-quadratic B&eacute;zier patch "
+  return "Feature-preserving smoothing after \"A new feature-preserving mesh-smoothing "
+         "algorithm\" (The Visual Computer, 2009) and beyond it. The paper's method (placements "
+         "Ring barycentre, Patch point, Paper): per vertex, principal curvatures (Meyer et al. "
+         "2003) and mesh saliency (Lee et al. 2005), a weighted bi-quadratic B&eacute;zier patch "
          "least-squares fitted to the vertex's 2-ring, and a new position on that patch."
-         "<br><b>Placement</b>: <i>Ring barycentre</i> (default) moves the vertex to the patch "
-         "point above its 1-ring barycentre, which removes normal and tangential noise and keeps "
-         "the volume; <i>Patch point</i> projects the vertex onto its patch; <i>Paper (Newton)</i> "
-         "is the paper's method as printed: Newton on (u,v) toward the saliency-weighted uniform "
-         "principal curvature. Measured, the paper's method distorts meshes (its curvature target "
-         "usually does not exist on the patch); the step limit keeps it local. "
+         "<br><b>Placement</b>: <i>Automatic</i> (default) measures whether the noisy mesh has "
+         "sharp features (after a few iterations of guided normal filtering: how much of it is "
+         "exactly flat, and whether its creases survive plain Taubin smoothing) and runs the "
+         "<i>Feature-preserving</i> mode on CAD-like meshes, the <i>Organic scan</i> mode on "
+         "the others; the log says which and why. A clean mesh is left as it is. "
          "<i>Feature-preserving (face patches)</i> keeps sharp edges: a short Taubin pre-pass "
          "(scaled by the measured noise), guided normal filtering (Zhang et al. 2015) and each "
          "vertex moved onto bi-quadratic patches of its faces (Sun et al. 2007's update). "
          "<i>Organic scan (band shrinkage)</i> is for organic shapes with noise in all directions "
          "(body scans, photogrammetry): the differences of Taubin results at 0, 1, 2, 4 ... 128 "
          "steps are frequency bands, each kept in proportion to how much of it is shape rather "
-         "than noise (the noise level is measured from the mesh), then one face-patch update."
+         "than noise (the noise level is measured from the mesh), then one face-patch update. "
+         "<i>Ring barycentre</i> moves the vertex to the patch point above its 1-ring "
+         "barycentre (the paper's patch, a light Taubin-class smoothing); <i>Patch point</i> "
+         "projects the vertex onto its patch; <i>Paper (Newton)</i> is the paper's method as "
+         "printed: Newton on (u,v) toward the saliency-weighted uniform principal curvature. "
+         "Measured, the paper's method distorts meshes (its curvature target usually does not "
+         "exist on the patch); the step limit keeps it local."
          "<br>All vertices of an iteration move at once; non-manifold and isolated vertices and "
          "those of degenerate faces are not moved. Per-vertex attributes <b>Saliency</b>, "
          "<b>K1</b>, <b>K2</b>, <b>MeanCurvature</b>, <b>GaussianCurvature</b>, <b>Alpha</b>, "
@@ -91,15 +97,19 @@ inline const std::vector<ParamSpec> &parameterSpecs(FilterId id) {
        qualityChoices(FilterId::ComputeSaliencyCurvature)},
   };
   static const std::vector<ParamSpec> smoothing = {
-      {ParamKind::Int, "iterations", 3, "Iterations", "Number of smoothing iterations."},
-      {ParamKind::Enum, "placement", 0, "Placement",
-       "Where each vertex goes on its fitted patch: the patch point at its 1-ring barycentre's "
-       "parameter, its own patch point, or the paper's Newton solve for the uniform principal "
-       "curvature. Feature-preserving: guided normal filtering and per-face patches (keeps sharp "
-       "edges: CAD parts, noise along the normals). Organic scan: Taubin's frequency bands, each "
-       "kept in proportion to its measured shape-to-noise energy (organic shapes with noise in "
-       "all directions). These two use only 'Affect only selected vertices', 'Preserve volume' "
-       "and 'Store in vertex quality'.",
+      {ParamKind::Int, "iterations", 3, "Iterations",
+       "Number of smoothing iterations (Ring barycentre, Patch point and Paper placements; the "
+       "other modes measure how much smoothing the mesh needs)."},
+      {ParamKind::Enum, "placement", 5, "Placement",
+       "Automatic (default): the feature-preserving mode on meshes with sharp features, the "
+       "organic mode on the others, decided from the mesh. Feature-preserving: guided normal "
+       "filtering and per-face patches (keeps sharp edges: CAD parts). Organic scan: Taubin's "
+       "frequency bands, each kept in proportion to its measured shape-to-noise energy (organic "
+       "shapes with noise in all directions). These three use only 'Affect only selected "
+       "vertices', 'Preserve volume' and 'Store in vertex quality'. Ring barycentre, Patch point "
+       "and Paper (Newton): where each vertex goes on the paper's patch fitted to its 2-ring (the "
+       "patch point at its 1-ring barycentre's parameter, its own patch point, or the paper's "
+       "Newton solve for the uniform principal curvature).",
        {"Ring barycentre", "Patch point", "Paper (Newton)", "Feature-preserving (face patches)",
         "Organic scan (band shrinkage)", "Automatic (feature-preserving or organic)"}},
       {ParamKind::Bool, "alpha_override", 1, "Override alpha",

@@ -33,6 +33,7 @@ struct AutoSmoothParams {
 struct AutoSmoothReport {
   bool cancelled = false;
   bool chose_feature = false;
+  bool decided = false; // false: the mesh measured as clean (or had no faces to filter): untouched
   SharpFeatureEvidence evidence;
   FeatureSmoothReport feature;   // the feature mode's report (declined when it was not chosen)
   OrganicSmoothReport organic;   // the organic mode's report, when it was chosen
@@ -65,6 +66,7 @@ inline AutoSmoothReport autoSmoothMesh(const MeshArrays &mesh, const AutoSmoothP
                                                params.flat_deg);
         report.seconds_reference =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - reference_start).count();
+        report.decided = true;
         report.chose_feature = report.evidence.flat_share >= params.feature_flat_share ||
                                report.evidence.confirmed_share >= params.feature_confirmed_share;
         return report.chose_feature;

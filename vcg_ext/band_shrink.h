@@ -20,8 +20,9 @@
 // (bench/random_noise/scale_selection.py, bench/FEATURE_MODE.md: α 3 at a band SNR up to 0.12,
 // α 1 from 0.16; the four meshes the constants were chosen on read 0.06, 0.12-0.13, 0.17, 0.5).
 //
-// The probe's values come from a hash of each vertex's position, and every sum runs in vertex
-// order on one thread, so the result does not depend on the vertex order or the thread count.
+// The probe's values come from a hash of each vertex's position in the mesh's own frame (bounding
+// box corner, mean edge length), and every sum runs in vertex order on one thread, so the result
+// depends neither on the vertex order or the thread count nor on the mesh's scale or placement.
 #pragma once
 
 #include "curvature.h"
@@ -145,11 +146,27 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
     return report;
   }
 
+  // The probe hashes each vertex's position in the mesh's own frame: from the lowest corner of the
+  // faces' bounding box, in cells of 1/16 mean edge length (coarse enough that float rounding of a
+  // moved or scaled mesh rarely changes a cell, fine enough that two vertices rarely share one).
+  // Raw coordinates gave another probe, and a result 1e-3 of the bbox diagonal away, when the mesh
+  // was scaled or moved (or gained an isolated vertex that widened the box).
+  std::vector<Vec3> probe_key(n);
+  {
+    Vec3 lowest = Vec3::Constant(INFINITY);
+    for (int v = 0; v < n; ++v)
+      if (rings.ring1Size(v) > 0) lowest = lowest.cwiseMin(points[v]);
+    const double cell = edgeStatistics(points, rings).mean_edge_length / 16.0;
+    for (int v = 0; v < n; ++v)
+      probe_key[v] = cell > 0 && rings.ring1Size(v) > 0
+                         ? Vec3(((points[v] - lowest) / cell).array().floor())
+                         : Vec3::Zero();
+  }
   // The scale space and the probe's, one Taubin run each; the probe's bands are consumed at once.
   std::vector<std::vector<Vec3>> snapshot(bands + 1);
   std::vector<Vec3> probe(n), probe_previous;
   for (int v = 0; v < n; ++v)
-    probe[v] = report.noise_sigma * detail::positionHashedGaussian(points[v]);
+    probe[v] = report.noise_sigma * detail::positionHashedGaussian(probe_key[v]);
   std::vector<std::uint8_t> counted(n);
   long count = 0;
   for (int v = 0; v < n; ++v) {
@@ -199,7 +216,7 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   double fine_noise = noise_energy[fine];
   for (int extra = 1; extra <= params.fine_band_probes; ++extra) {
     for (int v = 0; v < n; ++v)
-      probe[v] = report.noise_sigma * detail::positionHashedGaussian(points[v], extra);
+      probe[v] = report.noise_sigma * detail::positionHashedGaussian(probe_key[v], extra);
     taubinSmooth(probe, rings, fixed, curve, edges[0], lambda, mu);
     for (int b = 0; b < fine; ++b)
       taubinSmooth(probe, rings, band_fixed(b), curve, edges[b + 1] - edges[b], lambda, mu);

@@ -34,8 +34,8 @@ def test_quick_benchmark_produces_finite_tables(tmp_path):
     for heading in SUMMARY_SECTIONS:
         table = section(text, heading)
         header = numbers(next(l for l in table.splitlines() if l.startswith("| case |")))
-        assert header[1:6] == ["noisy", "ours default", "ours feature-preserving",
-                               "ours organic", "Laplacian default"]
+        assert header[1:7] == ["noisy", "ours automatic (default)", "ours ring barycentre",
+                               "ours feature-preserving", "ours organic", "Laplacian default"]
         for case in QUICK_CASES:
             rows = [l for l in table.splitlines() if l.startswith(f"| {case} |")]
             assert len(rows) == 1, (heading, case)
@@ -51,14 +51,15 @@ def test_quick_benchmark_produces_finite_tables(tmp_path):
     for case in QUICK_CASES:
         row = dict(zip(header, numbers(next(l for l in theta.splitlines()
                                             if l.startswith(f"| {case} |")))))
-        assert float(row["ours default"]) < float(row["noisy"]), row
+        assert float(row["ours automatic (default)"]) < float(row["noisy"]), row
+        assert float(row["ours ring barycentre"]) < float(row["noisy"]), row
         assert float(row["ours feature-preserving"]) < float(row["noisy"]), row
         assert float(row["ours organic"]) < float(row["noisy"]), row
         for peer in ["Laplacian best", "HC Laplacian best", "Taubin best"]:
             assert float(row[peer]) < float(row["noisy"]), (case, peer)
 
     # the feature-preserving mode next to the published guided / bilateral normal filtering
-    published = section(text, "## Feature-preserving mode vs published normal filtering")
+    published = section(text, "## Automatic (default) mode vs published normal filtering")
     for case in QUICK_CASES[:4]:
         cells = numbers(next(l for l in published.splitlines() if l.startswith(f"| {case} |")))
         theta, ev = (float(x) for x in cells[2].split(" / "))

@@ -26,7 +26,15 @@ namespace {
 const char *const kAttributes[] = {"Saliency", "MeanCurvature", "GaussianCurvature", "K1", "K2"};
 const char *const kSmoothAttributes[] = {"Alpha", "Displacement"};
 
-ParameterValues smoothDefaults() { return defaultParameters(FilterId::SaliencyBezierSmooth); }
+// The ring-barycentre placement (the paper's patch, a local per-vertex method): what most tests
+// below check (each component smoothed as if alone, per-kind skip counts in the log) is its
+// behaviour. The default automatic mode, like the feature and organic modes it runs, measures the
+// noise over the whole mesh; it is covered by the tests that loop over every placement.
+ParameterValues smoothDefaults() {
+  ParameterValues p = defaultParameters(FilterId::SaliencyBezierSmooth);
+  p["placement"] = 0;
+  return p;
+}
 
 // Every placement the dialog offers (the last two run the feature-preserving and organic drivers).
 const int kPlacements = [] {
@@ -440,6 +448,27 @@ TYPED_TEST(BadInput, ManySmallComponentsSmoothEachAsIfAlone) {
 TYPED_TEST(BadInput, HugeAndTinyCoordinatesAreScaleEquivariant) {
   const MeshArrays base = noisySphere();
   const double diagonal = 2 * std::sqrt(3.0);
+  // Every driver: the ring barycentre, the feature mode, the organic mode (whose noise probe once
+  // hashed raw coordinates: 1e-3 of the diagonal off at 1e7) and the automatic mode.
+  for (int placement : {3, 4, kPlacements - 1}) {
+    ParameterValues p = smoothDefaults();
+    p["placement"] = placement;
+    TypeParam reference;
+    test_vcg::assign(reference, base);
+    ASSERT_TRUE(smooth(reference, p).ok);
+    for (double s : {1e7, 1e-7}) {
+      MeshArrays scaled = base;
+      for (Vec3 &q : scaled.points) q = q * s + Vec3(3, -2, 5) * s; // moved as well
+      TypeParam m;
+      test_vcg::assign(m, scaled);
+      ASSERT_TRUE(smooth(m, p).ok);
+      const std::vector<Vec3> got = test_vcg::positions(m), want = test_vcg::positions(reference);
+      double worst = 0;
+      for (size_t v = 0; v < got.size(); ++v)
+        worst = std::max(worst, (got[v] / s - Vec3(3, -2, 5) - want[v]).norm());
+      EXPECT_LT(worst / diagonal, 1e-6) << "placement " << placement << ", scale " << s;
+    }
+  }
   TypeParam reference;
   test_vcg::assign(reference, base);
   ASSERT_TRUE(smooth(reference).ok);
