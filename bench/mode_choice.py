@@ -69,9 +69,11 @@ def measure(build, name, noisy, clean, work):
                    f"placement={placement}"]).stderr
         row[key] = theta(build, d / f"{key}.ply", clean)
         if key == "auto":
-            flat, confirmed = EVIDENCE.search(log).groups()
-            row["flat"], row["confirmed"] = float(flat), float(confirmed)
-            row["chose"] = "feature" if "feature-preserving mode." in log else "organic"
+            evidence = EVIDENCE.search(log)  # none when the mesh measured as clean
+            row["flat"], row["confirmed"] = (float(x) for x in evidence.groups()) if evidence \
+                else (float("nan"), float("nan"))
+            row["chose"] = ("feature" if "feature-preserving mode." in log else "organic") \
+                if evidence else "none (clean)"
     best = min(row["feature"], row["organic"])
     row["regret"] = row["auto"] / best - 1 if best > 0 else 0.0
     # Noise far above the mesh's detail: both modes leave > 30° (coarse CAD models, whose mean
