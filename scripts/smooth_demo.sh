@@ -44,5 +44,8 @@ printf '  %-28s' " ... ring barycentre:"; score "$out/ring.ply"
 printf '  %-28s' " ... feature-preserving:"; score "$out/feature.ply"
 printf '  %-28s' " ... organic scan:"; score "$out/organic.ply"
 printf '  %-28s' "MeshLab Laplacian Smooth x5:"; score "$out/laplacian.ply"
-grep -E "^(Automatic mode|Volume|Time)" "$out/ours.log" | sed 's/^/  log: /' | sort -u
+# meshlabserver echoes the filter's log as "LOG: <level> <line>" (the plain copy may share a line
+# with the progress messages).
+grep -E "^LOG: [0-9]+ (Automatic mode|Volume|Time)" "$out/ours.log" | sed -E 's/^LOG: [0-9]+ /  log: /'
+
 rm -rf "$out"
