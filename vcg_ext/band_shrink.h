@@ -27,6 +27,7 @@
 
 #include "curvature.h"
 #include "normal_filter.h"
+#include "spatial_taubin.h"
 
 #include <cstring>
 #include <functional>
@@ -162,11 +163,9 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
                          ? Vec3(((points[v] - lowest) / cell).array().floor())
                          : Vec3::Zero();
   }
-  // The scale space and the probe's, one Taubin run each; the probe's bands are consumed at once.
-  std::vector<std::vector<Vec3>> snapshot(bands + 1);
-  std::vector<Vec3> probe(n), probe_previous;
-  for (int v = 0; v < n; ++v)
-    probe[v] = report.noise_sigma * detail::positionHashedGaussian(probe_key[v]);
+  // The scale space and the probe's, one Taubin run for both; the probe's bands are consumed at
+  // once. Both live in the renumbered order of `taubin`; every sum below runs in vertex order.
+  const SpatialTaubin taubin(points, rings, fixed, curve);
   std::vector<std::uint8_t> counted(n);
   long count = 0;
   for (int v = 0; v < n; ++v) {
@@ -177,26 +176,32 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
     report.gains.assign(bands, 1.0);
     return report;
   }
-  const double lambda = params.lambda, mu = params.mu;
-  std::vector<double> noise_energy(bands, 0.0);
-  snapshot[0] = points;
-  taubinSmooth(snapshot[0], rings, fixed, curve, edges[0], lambda, mu);
-  taubinSmooth(probe, rings, fixed, curve, edges[0], lambda, mu);
-  // Boundary vertices stop following their curve from band `boundary_pairs` on.
-  std::vector<std::uint8_t> fixed_boundary(fixed);
-  for (int v = 0; v < n; ++v) fixed_boundary[v] |= rings.boundary[v];
-  auto band_fixed = [&](int b) -> const std::vector<std::uint8_t> & {
-    return edges[b] >= params.boundary_pairs ? fixed_boundary : fixed;
+  auto hashed_probe = [&](std::uint64_t stream) {
+    std::vector<Vec3> probe(n);
+    for (int v = 0; v < n; ++v)
+      probe[v] = report.noise_sigma * detail::positionHashedGaussian(probe_key[v], stream);
+    return taubin.toLocal(probe);
   };
+  const double lambda = params.lambda, mu = params.mu;
+  // Boundary vertices stop following their curve from band `boundary_pairs` on.
+  auto boundary_still = [&](int b) { return edges[b] >= params.boundary_pairs; };
+  std::vector<std::vector<Vec3>> snapshot(bands + 1);
+  std::vector<Vec3> probe = hashed_probe(0), probe_previous;
+  std::vector<double> noise_energy(bands, 0.0);
+  snapshot[0] = taubin.toLocal(points);
+  taubin.smooth({&snapshot[0], &probe}, edges[0], lambda, mu);
   for (int b = 0; b < bands; ++b) {
     snapshot[b + 1] = snapshot[b];
-    taubinSmooth(snapshot[b + 1], rings, band_fixed(b), curve, edges[b + 1] - edges[b], lambda, mu);
     probe_previous = probe;
-    taubinSmooth(probe, rings, band_fixed(b), curve, edges[b + 1] - edges[b], lambda, mu);
+    taubin.smooth({&snapshot[b + 1], &probe}, edges[b + 1] - edges[b], lambda, mu,
+                  boundary_still(b));
     // Three independent probes in one: the components; a band's noise along the normal has their
     // mean variance.
     for (int v = 0; v < n; ++v)
-      if (counted[v]) noise_energy[b] += (probe_previous[v] - probe[v]).squaredNorm() / 3.0;
+      if (counted[v]) {
+        const int l = taubin.local(v);
+        noise_energy[b] += (probe_previous[l] - probe[l]).squaredNorm() / 3.0;
+      }
     if (progress && !progress(0.9 * (b + 1) / bands)) {
       report.cancelled = true;
       return report;
@@ -204,26 +209,30 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   }
   const auto normal_at =
       std::find(edges.begin(), edges.end(), params.normal_pairs) - edges.begin();
-  computeVertexNormals(snapshot[std::min<long>(normal_at, bands)], faces, rings, normals);
+  computeVertexNormals(taubin.toGlobal(snapshot[std::min<long>(normal_at, bands)]), faces, rings,
+                       normals);
   std::vector<double> energy(bands, 0.0);
   for (int b = 0; b < bands; ++b)
     for (int v = 0; v < n; ++v)
       if (counted[v]) {
-        const double along = (snapshot[b][v] - snapshot[b + 1][v]).dot(normals[v]);
+        const int l = taubin.local(v);
+        const double along = (snapshot[b][l] - snapshot[b + 1][l]).dot(normals[v]);
         energy[b] += along * along;
       }
   const int fine = std::clamp(params.fine_band, 0, bands - 1);
   double fine_noise = noise_energy[fine];
   for (int extra = 1; extra <= params.fine_band_probes; ++extra) {
-    for (int v = 0; v < n; ++v)
-      probe[v] = report.noise_sigma * detail::positionHashedGaussian(probe_key[v], extra);
-    taubinSmooth(probe, rings, fixed, curve, edges[0], lambda, mu);
+    probe = hashed_probe(extra);
+    taubin.smooth({&probe}, edges[0], lambda, mu);
     for (int b = 0; b < fine; ++b)
-      taubinSmooth(probe, rings, band_fixed(b), curve, edges[b + 1] - edges[b], lambda, mu);
+      taubin.smooth({&probe}, edges[b + 1] - edges[b], lambda, mu, boundary_still(b));
     probe_previous = probe;
-    taubinSmooth(probe, rings, band_fixed(fine), curve, edges[fine + 1] - edges[fine], lambda, mu);
+    taubin.smooth({&probe}, edges[fine + 1] - edges[fine], lambda, mu, boundary_still(fine));
     for (int v = 0; v < n; ++v)
-      if (counted[v]) fine_noise += (probe_previous[v] - probe[v]).squaredNorm() / 3.0;
+      if (counted[v]) {
+        const int l = taubin.local(v);
+        fine_noise += (probe_previous[l] - probe[l]).squaredNorm() / 3.0;
+      }
   }
   fine_noise /= 1 + std::max(0, params.fine_band_probes);
   report.fine_snr = fine_noise > 0 ? std::max(energy[fine] - fine_noise, 0.0) / fine_noise : 0.0;
@@ -239,8 +248,9 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   // Coarse base plus every band times its gain.
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
   for (int v = 0; v < n; ++v) {
-    Vec3 p = snapshot[bands][v];
-    for (int b = 0; b < bands; ++b) p += report.gains[b] * (snapshot[b][v] - snapshot[b + 1][v]);
+    const int l = taubin.local(v);
+    Vec3 p = snapshot[bands][l];
+    for (int b = 0; b < bands; ++b) p += report.gains[b] * (snapshot[b][l] - snapshot[b + 1][l]);
     if (p.allFinite()) points[v] = p;
   }
   return report;

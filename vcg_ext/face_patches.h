@@ -184,4 +184,21 @@ inline Vec3 moveOntoFacePatches(int v, const Vec3 &p, const Rings &rings,
   return count ? Vec3(p + sum / count) : p;
 }
 
+// The same update with every patch flat (Sun et al. 2007 as published): the planes through the
+// face centroids with the filtered normals. The arithmetic of projectAlongNormal at zero height,
+// without building a FacePatch per face (most of the feature mode's vertex updates use planes).
+inline Vec3 moveOntoFacePlanes(int v, const Vec3 &p, const Rings &rings,
+                               const std::vector<Vec3> &centroid, const std::vector<Vec3> &normal,
+                               double unit) {
+  Vec3 sum = Vec3::Zero();
+  int count = 0;
+  for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) {
+    const Vec3 d = (p - centroid[*f]) / unit;
+    const double z = d.dot(normal[*f]);
+    sum += (p + normal[*f] * ((0.0 - z) * unit)) - p;
+    ++count;
+  }
+  return count ? Vec3(p + sum / count) : p;
+}
+
 } // namespace vcg_ext

@@ -258,7 +258,7 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
   if (!report_progress(0, 0.05, "Taubin pre-pass")) return report.cancelled = true, report;
 
   std::vector<Vec3> filtered, next(current), vertex_normals;
-  std::vector<FacePatch> patches(face_count);
+  std::vector<FacePatch> patches(params.patch_iterations > 0 ? face_count : 0);
   std::vector<Eigen::Matrix3d> tangent_projector(params.tangential > 0 ? n : 0);
   std::vector<std::uint8_t> relax(n, 1), relax_next(n, 1);
   for (int pass = 0; pass < outer && edge > 0; ++pass) {
@@ -307,17 +307,11 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
       double mean_area = 0;
       for (double a : geometry.area) mean_area += a / face_count;
       long fallbacks = 0, rejected = 0;
+      if (use_patches) {
 #pragma omp parallel for schedule(static) reduction(+ : fallbacks) if (face_count >= min_parallel_vertices)
-      for (int f = 0; f < face_count; ++f) {
-        if (use_patches) {
+        for (int f = 0; f < face_count; ++f)
           fallbacks += !fitFacePatch(f, current, mesh.faces, face_rings, geometry, filtered,
                                      mean_area, edge, params.patches, patches[f]);
-        } else {
-          patches[f] = FacePatch();
-          patches[f].origin = geometry.centroid[f];
-          patches[f].unit = edge;
-          patches[f].normal = filtered[f]; // zero height: the face's plane (Sun et al.)
-        }
       }
       // Boundary moves keep off the inward direction, which needs the surface normal there.
       if (report.boundary_vertices) computeVertexNormals(current, mesh.faces, rings, vertex_normals);
@@ -346,7 +340,9 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
       for (int v = 0; v < n; ++v) {
         next[v] = current[v];
         if (fixed[v] || rings.ring1Size(v) == 0) continue;
-        Vec3 moved = moveOntoFacePatches(v, current[v], rings, patches);
+        Vec3 moved = use_patches ? moveOntoFacePatches(v, current[v], rings, patches)
+                                 : moveOntoFacePlanes(v, current[v], rings, geometry.centroid,
+                                                      filtered, edge);
         if (params.tangential > 0 && relax[v]) {
           Vec3 centre = Vec3::Zero();
           for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) centre += current[*w];

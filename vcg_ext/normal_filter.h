@@ -178,18 +178,34 @@ namespace detail {
 inline void patchConsistency(int f, const FaceRings &face_rings, const std::vector<Vec3> &normals,
                              const std::vector<double> &area, double &consistency,
                              Vec3 &mean_normal) {
+  // The patch's normals are gathered first (the pair loop reads each a dozen times), and the
+  // maxima are taken without branches (mispredicted ones took a fifth of the time).
+  constexpr int kOnStack = 32;
+  const int *ring = face_rings.begin(f);
+  const int size = face_rings.size(f);
+  std::array<Vec3, kOnStack> on_stack;
+  std::vector<Vec3> on_heap(size > kOnStack ? size : 0);
+  Vec3 *local = size > kOnStack ? on_heap.data() : on_stack.data();
   double largest2 = 0, largest_jump = 0, jump_sum = 0;
   Vec3 sum = Vec3::Zero();
-  for (const int *a = face_rings.begin(f); a != face_rings.end(f); ++a) {
-    sum += area[*a] * normals[*a];
-    for (const int *b = a + 1; b != face_rings.end(f); ++b)
-      largest2 = std::max(largest2, (normals[*a] - normals[*b]).squaredNorm());
-    for (int b : face_rings.edge_neighbours[*a])
-      if (b > *a && face_rings.contains(f, b)) {
-        const double d = (normals[*a] - normals[b]).norm();
-        largest_jump = std::max(largest_jump, d);
-        jump_sum += d;
-      }
+  for (int i = 0; i < size; ++i) {
+    local[i] = normals[ring[i]];
+    sum += area[ring[i]] * local[i];
+  }
+  for (int i = 0; i < size; ++i) {
+    for (int j = i + 1; j < size; ++j) {
+      const double d2 = (local[i] - local[j]).squaredNorm();
+      largest2 = d2 > largest2 ? d2 : largest2;
+    }
+    // Inner edges, each once (from its lower face index); the ring is sorted.
+    for (int b : face_rings.edge_neighbours[ring[i]]) {
+      if (b <= ring[i]) continue;
+      const int *at = std::lower_bound(ring + i + 1, ring + size, b);
+      if (at == ring + size || *at != b) continue;
+      const double d = (local[i] - local[at - ring]).norm();
+      largest_jump = d > largest_jump ? d : largest_jump;
+      jump_sum += d;
+    }
   }
   consistency = std::sqrt(largest2) * largest_jump / (1e-9 + jump_sum);
   const double len = sum.norm();
@@ -222,8 +238,11 @@ inline void filterNormals(const std::vector<Face> &faces, const FaceRings &face_
                                                      : std::pow(geometry.area[g], params.area_power);
       spatial_weight[k] = area * std::exp(spatial * ds);
     }
+  std::vector<double> weight(params.iterations > 0 ? face_rings.faces.size() : 0);
   for (int it = 0; it < params.iterations; ++it) {
-    if (params.kind == NormalFilterKind::Guided && it % std::max(1, params.guidance_every) == 0) {
+    const bool guidance_changed =
+        params.kind == NormalFilterKind::Guided && it % std::max(1, params.guidance_every) == 0;
+    if (guidance_changed) {
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
       for (int f = 0; f < m; ++f)
         detail::patchConsistency(f, face_rings, out, geometry.area, consistency[f],
@@ -240,16 +259,24 @@ inline void filterNormals(const std::vector<Face> &faces, const FaceRings &face_
         guidance[f] = patch_normal[best];
       }
     }
-    const std::vector<Vec3> &kernel_normals =
-        params.kind == NormalFilterKind::Guided ? guidance : out;
+    // The weights change with the kernel normals only: the guided filter's guidance stays for
+    // `guidance_every` iterations, and so do its weights (computed once per guidance period, the
+    // same products as in the sum, so the normals are the same to the bit).
+    if (params.kind == NormalFilterKind::Bilateral || guidance_changed) {
+      const std::vector<Vec3> &kernel_normals =
+          params.kind == NormalFilterKind::Guided ? guidance : out;
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
+      for (int f = 0; f < m; ++f)
+        for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k) {
+          const double dr = (kernel_normals[f] - kernel_normals[face_rings.faces[k]]).squaredNorm();
+          weight[k] = spatial_weight[k] * rangeKernel(range * dr);
+        }
+    }
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
     for (int f = 0; f < m; ++f) {
       Vec3 sum = Vec3::Zero();
-      for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k) {
-        const int g = face_rings.faces[k];
-        const double dr = (kernel_normals[f] - kernel_normals[g]).squaredNorm();
-        sum += spatial_weight[k] * rangeKernel(range * dr) * out[g];
-      }
+      for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k)
+        sum += weight[k] * out[face_rings.faces[k]];
       const double len = sum.norm();
       next[f] = len > 0 && std::isfinite(len) ? Vec3(sum / len) : out[f];
     }

@@ -67,6 +67,8 @@ TEST(FacePatches, PlaneUpdateOfALiftedVertexIsSunsClosedForm) {
   EXPECT_NEAR(moved.z(), h / 3, 1e-12);
   EXPECT_NEAR(moved.x(), 3.0, 1e-12);
   EXPECT_NEAR(moved.y(), 3.0, 1e-12);
+  // The plane-only update (no FacePatch per face) is the same arithmetic.
+  EXPECT_EQ(moveOntoFacePlanes(v, m.points[v], s.rings, s.geometry.centroid, up, s.edge), moved);
   // The fitted patches see the whole ring, not only the face: the vertex goes lower still.
   const Vec3 onto_patches = moveOntoFacePatches(v, m.points[v], s.rings, s.patches(up));
   EXPECT_LT(onto_patches.z(), h / 3);
@@ -127,4 +129,20 @@ TEST(FacePatches, RangeKernelKeepsTheOtherSideOfACreaseOut) {
     ++checked;
   }
   EXPECT_GT(checked, 5);
+}
+
+TEST(FacePatches, PlaneUpdateIsThePatchUpdateWithFlatPatchesToTheBit) {
+  // Every vertex of a noisy sphere, with noisy per-face normals: moveOntoFacePlanes gives exactly
+  // what moveOntoFacePatches gives with the zero-height patches the feature mode used to build.
+  MeshArrays m = test_meshes::icosphere(1.0, 3);
+  test_meshes::addNoise(m, 0.02, 5);
+  const PatchSetup s(m);
+  std::vector<Vec3> normals = s.geometry.normal;
+  for (size_t f = 0; f < normals.size(); ++f)
+    normals[f] = (normals[f] + Vec3(0.1 * std::sin(f), 0.1 * std::cos(f), 0.05)).normalized();
+  const std::vector<FacePatch> planes = s.patches(normals, true);
+  for (int v = 0; v < int(m.points.size()); ++v)
+    ASSERT_EQ(moveOntoFacePlanes(v, m.points[v], s.rings, s.geometry.centroid, normals, s.edge),
+              moveOntoFacePatches(v, m.points[v], s.rings, planes))
+        << "vertex " << v;
 }

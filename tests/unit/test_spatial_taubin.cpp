@@ -1,0 +1,83 @@
+// vcg_ext/spatial_taubin.h: Taubin smoothing over a spatially renumbered copy of the 1-ring graph
+// gives taubinSmooth's result to the bit (interior, boundary curves, fixed vertices, several fields
+// at once) and puts mesh neighbours near each other in memory.
+#include <gtest/gtest.h>
+#include <support/analytic_meshes.h>
+#include <vcg_ext/normal_filter.h>
+#include <vcg_ext/smooth.h>
+#include <vcg_ext/spatial_taubin.h>
+
+using namespace vcg_ext;
+
+namespace {
+
+// An open, noisy cylinder with its vertices shuffled: boundaries, and a scattered vertex order.
+MeshArrays scatteredCylinder() {
+  MeshArrays m = test_meshes::cylinder(1.0, 2.0, 48, 40);
+  test_meshes::addNoise(m, 0.01, 7);
+  return test_meshes::permuted(m, test_meshes::shuffledPermutation(int(m.points.size()), 3));
+}
+
+double meanIndexDistance(const MeshArrays &m, const std::function<int(int)> &index) {
+  double sum = 0;
+  for (const Face &f : m.faces)
+    for (int k = 0; k < 3; ++k) sum += std::abs(index(f[k]) - index(f[(k + 1) % 3]));
+  return sum / (3.0 * m.faces.size());
+}
+
+} // namespace
+
+TEST(SpatialTaubin, SameBitsAsTaubinSmoothWithBoundariesAndFixedVertices) {
+  const MeshArrays m = scatteredCylinder();
+  const int n = int(m.points.size());
+  const Rings rings = computeRings(n, m.faces);
+  const detail::VertexRoles roles =
+      detail::vertexRoles(m, rings, edgeStatistics(m.points, rings).mean_edge_length);
+  std::vector<std::uint8_t> fixed(n, 0), fixed_and_boundary(n, 0);
+  for (int v = 0; v < n; v += 17) fixed[v] = 1;
+  for (int v = 0; v < n; ++v) fixed_and_boundary[v] = fixed[v] || rings.boundary[v];
+  ASSERT_GT(std::count(rings.boundary.begin(), rings.boundary.end(), 1), 90);
+
+  // A second field: a different signal on the same graph.
+  std::vector<Vec3> other(n);
+  for (int v = 0; v < n; ++v) other[v] = Vec3(std::sin(v), std::cos(3.0 * v), 0.5 * v / n);
+
+  std::vector<Vec3> expected_points = m.points, expected_other = other;
+  taubinSmooth(expected_points, rings, fixed, roles.boundary_neighbours, 5, 0.5, -0.51);
+  taubinSmooth(expected_other, rings, fixed, roles.boundary_neighbours, 5, 0.5, -0.51);
+  taubinSmooth(expected_points, rings, fixed_and_boundary, roles.boundary_neighbours, 3, 0.5, -0.51);
+  taubinSmooth(expected_other, rings, fixed_and_boundary, roles.boundary_neighbours, 3, 0.5, -0.51);
+
+  const SpatialTaubin taubin(m.points, rings, fixed, roles.boundary_neighbours);
+  std::vector<Vec3> points = taubin.toLocal(m.points), local_other = taubin.toLocal(other);
+  taubin.smooth({&points, &local_other}, 5, 0.5, -0.51);
+  taubin.smooth({&points, &local_other}, 3, 0.5, -0.51, /*boundary_still=*/true);
+  const std::vector<Vec3> got_points = taubin.toGlobal(points), got_other = taubin.toGlobal(local_other);
+  int moved = 0;
+  for (int v = 0; v < n; ++v) {
+    ASSERT_EQ(got_points[v], expected_points[v]) << "vertex " << v;
+    ASSERT_EQ(got_other[v], expected_other[v]) << "vertex " << v;
+    moved += got_points[v] != m.points[v];
+    if (fixed[v]) EXPECT_EQ(got_points[v], m.points[v]);
+  }
+  EXPECT_GT(moved, n / 2);
+}
+
+TEST(SpatialTaubin, RenumberingBringsNeighboursTogether) {
+  const MeshArrays m = scatteredCylinder();
+  const int n = int(m.points.size());
+  const Rings rings = computeRings(n, m.faces);
+  const std::vector<std::uint8_t> fixed(n, 0);
+  const std::vector<std::array<int, 2>> no_curve(n, {-1, -1});
+  const SpatialTaubin taubin(m.points, rings, fixed, no_curve);
+  // Shuffled: about n/3 apart on average; along the Morton curve, a few dozen.
+  const double before = meanIndexDistance(m, [](int v) { return v; });
+  const double after = meanIndexDistance(m, [&](int v) { return taubin.local(v); });
+  EXPECT_GT(before, 0.25 * n);
+  EXPECT_LT(after, 0.1 * before);
+  // A permutation, and toGlobal undoes toLocal.
+  std::vector<int> seen(n, 0);
+  for (int v = 0; v < n; ++v) ++seen[taubin.local(v)];
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), n);
+  EXPECT_EQ(taubin.toGlobal(taubin.toLocal(m.points)), m.points);
+}
