@@ -40,9 +40,12 @@ struct AutoSmoothReport {
   double seconds_setup = 0, seconds_reference = 0; // shared topology; the Taubin copy and evidence
 };
 
-inline AutoSmoothReport autoSmoothMesh(const MeshArrays &mesh, const AutoSmoothParams &params,
-                                       std::vector<Vec3> &out_points, VertexQuantities &quantities,
-                                       const ProgressFn &progress = nullptr) {
+namespace detail {
+
+inline AutoSmoothReport autoSmoothAsGiven(const MeshArrays &mesh, const AutoSmoothParams &params,
+                                          std::vector<Vec3> &out_points,
+                                          VertexQuantities &quantities,
+                                          const ProgressFn &progress) {
   AutoSmoothReport report;
   const bool selected_only = params.feature.selected_only;
   const auto start = std::chrono::steady_clock::now();
@@ -52,7 +55,7 @@ inline AutoSmoothReport autoSmoothMesh(const MeshArrays &mesh, const AutoSmoothP
   OrganicSmoothParams organic_params = params.organic;
   organic_params.selected_only = selected_only; // one set-up serves both drivers
   // Both drivers report 0-99 %; the feature mode's first pass is the first part of either path.
-  report.feature = featureSmoothMesh(
+  report.feature = featureSmoothAsGiven(
       mesh, params.feature, out_points, quantities, progress,
       [&](const std::vector<Vec3> &filtered, const detail::DriverSetup &) {
         const auto reference_start = std::chrono::steady_clock::now();
@@ -79,7 +82,7 @@ inline AutoSmoothReport autoSmoothMesh(const MeshArrays &mesh, const AutoSmoothP
   }
   // The decision took the feature mode's first pass (about a fifth of its progress range).
   const int decided = 20;
-  report.organic = organicSmoothMesh(
+  report.organic = organicSmoothAsGiven(
       mesh, organic_params, out_points, quantities,
       progress ? ProgressFn([&](int percent, const char *stage) {
         return progress(decided + percent * (100 - decided) / 100, stage);
@@ -88,6 +91,19 @@ inline AutoSmoothReport autoSmoothMesh(const MeshArrays &mesh, const AutoSmoothP
       &setup);
   report.cancelled = report.organic.cancelled;
   return report;
+}
+
+} // namespace detail
+
+inline AutoSmoothReport autoSmoothMesh(const MeshArrays &mesh, const AutoSmoothParams &params,
+                                       std::vector<Vec3> &out_points, VertexQuantities &quantities,
+                                       const ProgressFn &progress = nullptr) {
+  return detail::inSpatialOrder(mesh, out_points, quantities,
+                                [&](const MeshArrays &ordered, std::vector<Vec3> &out,
+                                    VertexQuantities &q) {
+                                  return detail::autoSmoothAsGiven(ordered, params, out, q,
+                                                                   progress);
+                                });
 }
 
 } // namespace vcg_ext

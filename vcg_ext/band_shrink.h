@@ -53,16 +53,21 @@ struct BandShrinkParams {
   // 1.44 at 32, 1.31 at 16), while the faces along a noisy boundary need the smoothing (elephant
   // θ: 14.99 unlimited, 15.08 at 32, 15.19 at 16). bench/FEATURE_MODE.md.
   int boundary_pairs = 32;
-  // Extra probes for the fine band alone (they run only up to its upper edge, a few pairs): α
-  // hangs on that band's ratio, which one probe measures to a few percent (with one probe the
-  // armadillo read 0.17-0.19 depending on how its coordinates were rounded, and α moved with it).
-  int fine_band_probes = 8;
+  // Probes for the fine band (the first is the whole-run probe; the others run only up to the
+  // band's upper edge, a few pairs): α hangs on that band's ratio, whose spread shrinks with the
+  // number of probe values. So the count follows the mesh size: enough probes for
+  // `fine_band_probe_vertices` probe vertices, at most `max_fine_band_probes`. (With one probe the
+  // armadillo, 26k vertices, read 0.17-0.19 depending on how its coordinates were rounded, and α
+  // moved with it; nine probes on the 1.9k-vertex three_peaks read 0.12-0.16, across the α band.)
+  double fine_band_probe_vertices = 250000;
+  int max_fine_band_probes = 200;
 };
 
 struct BandShrinkReport {
   double noise_sigma = 0;    // estimated std of the noise along the normals (length units)
   double fine_snr = 0;       // shape-to-noise energy ratio of the fine band
   double alpha = 0;
+  int fine_band_probes = 0;  // probes that measured the fine band's noise
   double detail = 0;         // 0 (smooth at the edge scale: α = alpha_smooth) .. 1 (detailed)
   std::vector<double> gains; // per band, finest first
   bool cancelled = false;
@@ -221,7 +226,10 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
       }
   const int fine = std::clamp(params.fine_band, 0, bands - 1);
   double fine_noise = noise_energy[fine];
-  for (int extra = 1; extra <= params.fine_band_probes; ++extra) {
+  const int probes = std::clamp(int(std::ceil(params.fine_band_probe_vertices / count)), 1,
+                                std::max(1, params.max_fine_band_probes));
+  report.fine_band_probes = probes;
+  for (int extra = 1; extra < probes; ++extra) {
     probe = hashed_probe(extra);
     taubin.smooth({&probe}, edges[0], lambda, mu);
     for (int b = 0; b < fine; ++b)
@@ -234,7 +242,7 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
         fine_noise += (probe_previous[l] - probe[l]).squaredNorm() / 3.0;
       }
   }
-  fine_noise /= 1 + std::max(0, params.fine_band_probes);
+  fine_noise /= probes;
   report.fine_snr = fine_noise > 0 ? std::max(energy[fine] - fine_noise, 0.0) / fine_noise : 0.0;
   report.detail = std::clamp((report.fine_snr - params.fine_snr_smooth) /
                                  (params.fine_snr_detailed - params.fine_snr_smooth),

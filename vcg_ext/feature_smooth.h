@@ -20,6 +20,7 @@
 
 #include "face_patches.h"
 #include "smooth.h"
+#include "spatial_order.h"
 
 #include <Eigen/Eigenvalues>
 
@@ -192,13 +193,37 @@ inline void restoreInputVolume(std::vector<Vec3> &points, const DriverSetup &set
 using FilteredNormalsCheck = std::function<bool(const std::vector<Vec3> &filtered_normals,
                                                 const detail::DriverSetup &setup)>;
 
-inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
-                                             const FeatureSmoothParams &params,
-                                             std::vector<Vec3> &out_points,
-                                             VertexQuantities &quantities,
-                                             const ProgressFn &progress = nullptr,
-                                             const FilteredNormalsCheck &first_pass_check = nullptr,
-                                             const detail::DriverSetup *given_setup = nullptr) {
+namespace detail {
+
+// Runs `drive(ordered_mesh, out, quantities)` on the mesh in spatial order (spatial_order.h) and
+// puts the result back in the input's order; `out_points` and `quantities` are left as they were
+// when the driver leaves its own untouched (cancelled, declined).
+template <class Drive>
+auto inSpatialOrder(const MeshArrays &mesh, std::vector<Vec3> &out_points,
+                    VertexQuantities &quantities, Drive drive) {
+  const SpatialOrder order = spatialOrder(mesh);
+  std::vector<Vec3> out;
+  VertexQuantities q;
+  auto report = drive(order.mesh, out, q);
+  if (out.size() == mesh.points.size()) {
+    order.toInputOrder(out);
+    for (std::vector<double> *values :
+         {&q.saliency, &q.k1, &q.k2, &q.mean, &q.gauss, &q.alpha, &q.displacement})
+      order.toInputOrder(*values);
+    out_points.swap(out);
+    quantities = std::move(q);
+  }
+  return report;
+}
+
+// The driver on `mesh` as given (featureSmoothMesh runs it in spatial order).
+inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
+                                                const FeatureSmoothParams &params,
+                                                std::vector<Vec3> &out_points,
+                                                VertexQuantities &quantities,
+                                                const ProgressFn &progress = nullptr,
+                                                const FilteredNormalsCheck &first_pass_check = nullptr,
+                                                const DriverSetup *given_setup = nullptr) {
   using clock = std::chrono::steady_clock;
   auto seconds = [](clock::time_point a) {
     return std::chrono::duration<double>(clock::now() - a).count();
@@ -377,6 +402,21 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
   report.volume_after = signedVolume(current, mesh.faces);
   out_points.swap(current);
   return report;
+}
+
+} // namespace detail
+
+inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
+                                             const FeatureSmoothParams &params,
+                                             std::vector<Vec3> &out_points,
+                                             VertexQuantities &quantities,
+                                             const ProgressFn &progress = nullptr) {
+  return detail::inSpatialOrder(mesh, out_points, quantities,
+                                [&](const MeshArrays &ordered, std::vector<Vec3> &out,
+                                    VertexQuantities &q) {
+                                  return detail::featureSmoothAsGiven(ordered, params, out, q,
+                                                                      progress);
+                                });
 }
 
 } // namespace vcg_ext

@@ -50,12 +50,15 @@ struct OrganicSmoothReport {
   double seconds_topology = 0, seconds_bands = 0, seconds_patches = 0, seconds_quantities = 0;
 };
 
-inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
-                                             const OrganicSmoothParams &params,
-                                             std::vector<Vec3> &out_points,
-                                             VertexQuantities &quantities,
-                                             const ProgressFn &progress = nullptr,
-                                             const detail::DriverSetup *given_setup = nullptr) {
+namespace detail {
+
+// The driver on `mesh` as given (organicSmoothMesh runs it in spatial order).
+inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
+                                                const OrganicSmoothParams &params,
+                                                std::vector<Vec3> &out_points,
+                                                VertexQuantities &quantities,
+                                                const ProgressFn &progress = nullptr,
+                                                const DriverSetup *given_setup = nullptr) {
   using clock = std::chrono::steady_clock;
   auto seconds = [](clock::time_point a) {
     return std::chrono::duration<double>(clock::now() - a).count();
@@ -157,6 +160,21 @@ inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
   report.volume_after = signedVolume(current, mesh.faces);
   out_points.swap(current);
   return report;
+}
+
+} // namespace detail
+
+inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
+                                             const OrganicSmoothParams &params,
+                                             std::vector<Vec3> &out_points,
+                                             VertexQuantities &quantities,
+                                             const ProgressFn &progress = nullptr) {
+  return detail::inSpatialOrder(mesh, out_points, quantities,
+                                [&](const MeshArrays &ordered, std::vector<Vec3> &out,
+                                    VertexQuantities &q) {
+                                  return detail::organicSmoothAsGiven(ordered, params, out, q,
+                                                                      progress);
+                                });
 }
 
 } // namespace vcg_ext

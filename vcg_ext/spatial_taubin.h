@@ -1,6 +1,6 @@
 // Taubin's λ|μ smoothing (normal_filter.h's taubinSmooth) for long runs on large meshes: the same
-// steps, bit for bit, over a copy of the 1-ring graph renumbered along a Morton curve, on several
-// fields at once.
+// steps, bit for bit, over a copy of the 1-ring graph renumbered along a Morton curve
+// (spatial_order.h), on several fields at once.
 //
 // Inputs: positions (only to choose the order), Rings, the vertices that may not move, the boundary
 // curve neighbours. Fields are kept in the local order (toLocal / toGlobal convert).
@@ -14,6 +14,7 @@
 #pragma once
 
 #include "rings.h"
+#include "spatial_order.h"
 
 #include <algorithm>
 #include <array>
@@ -28,7 +29,7 @@ public:
                 const std::vector<std::uint8_t> &fixed,
                 const std::vector<std::array<int, 2>> &curve)
       : n_(rings.vertex_count) {
-    to_global_ = mortonOrder(points, rings);
+    to_global_ = mortonOrder(points);
     to_local_.assign(n_, 0);
     for (int l = 0; l < n_; ++l) to_local_[to_global_[l]] = l;
     offsets_.assign(n_ + 1, 0);
@@ -100,45 +101,6 @@ public:
 
 private:
   enum class Kind : std::uint8_t { Still, Curve, Interior };
-
-  // Vertices sorted by the Morton code of their cell (cells of about one mean edge length), the
-  // vertices of no face last; ties by index.
-  static std::vector<int> mortonOrder(const std::vector<Vec3> &points, const Rings &rings) {
-    const int n = rings.vertex_count;
-    Vec3 lowest = Vec3::Constant(INFINITY), highest = Vec3::Constant(-INFINITY);
-    for (int v = 0; v < n; ++v)
-      if (rings.ring1Size(v) > 0 && points[v].allFinite()) {
-        lowest = lowest.cwiseMin(points[v]);
-        highest = highest.cwiseMax(points[v]);
-      }
-    const double cell = std::max(edgeStatistics(points, rings).mean_edge_length,
-                                 (highest - lowest).maxCoeff() / double(1 << 20));
-    auto spread = [](std::uint64_t x) { // 21 bits to every third bit of 63
-      x &= 0x1fffff;
-      x = (x | x << 32) & 0x1f00000000ffffull;
-      x = (x | x << 16) & 0x1f0000ff0000ffull;
-      x = (x | x << 8) & 0x100f00f00f00f00full;
-      x = (x | x << 4) & 0x10c30c30c30c30c3ull;
-      x = (x | x << 2) & 0x1249249249249249ull;
-      return x;
-    };
-    std::vector<std::pair<std::uint64_t, int>> keyed(n);
-    for (int v = 0; v < n; ++v) {
-      std::uint64_t key = ~0ull;
-      if (rings.ring1Size(v) > 0 && points[v].allFinite() && cell > 0) {
-        key = 0;
-        for (int k = 0; k < 3; ++k) {
-          const double c = std::clamp((points[v][k] - lowest[k]) / cell, 0.0, double(0x1fffff));
-          key |= spread(std::uint64_t(c)) << k;
-        }
-      }
-      keyed[v] = {key, v};
-    }
-    std::sort(keyed.begin(), keyed.end());
-    std::vector<int> order(n);
-    for (int v = 0; v < n; ++v) order[v] = keyed[v].second;
-    return order;
-  }
 
   int n_;
   std::vector<int> to_global_, to_local_, offsets_, neighbours_;

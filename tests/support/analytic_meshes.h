@@ -3,6 +3,7 @@
 
 #include <vcg_ext/mesh_arrays.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <functional>
@@ -136,6 +137,15 @@ inline MeshArrays permuted(const MeshArrays &m, const std::vector<int> &perm) {
   for (auto &q : f)
     for (int &k : q) k = perm[k];
   return fromArrays(std::move(p), std::move(f));
+}
+
+// The same mesh with its faces in another order and each face's corners rotated (orientation kept).
+inline MeshArrays facesReordered(const MeshArrays &m, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::vector<Face> f = m.faces;
+  std::shuffle(f.begin(), f.end(), rng);
+  for (Face &q : f) std::rotate(q.begin(), q.begin() + rng() % 3, q.end());
+  return fromArrays(m.points, std::move(f));
 }
 
 inline std::vector<int> shuffledPermutation(int n, unsigned seed) {

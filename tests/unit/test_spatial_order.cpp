@@ -1,11 +1,14 @@
-// vcg_ext/spatial_taubin.h: Taubin smoothing over a spatially renumbered copy of the 1-ring graph
-// gives taubinSmooth's result to the bit (interior, boundary curves, fixed vertices, several fields
-// at once) and puts mesh neighbours near each other in memory.
+// vcg_ext/spatial_order.h and spatial_taubin.h: the spatially reordered copy of a mesh is the same
+// mesh (faces, orientation, selection) and the same for any input order; Taubin smoothing over a
+// renumbered copy of the 1-ring graph gives taubinSmooth's result to the bit (interior, boundary
+// curves, fixed vertices, several fields at once) and puts mesh neighbours near each other.
 #include <gtest/gtest.h>
 #include <support/analytic_meshes.h>
 #include <vcg_ext/normal_filter.h>
 #include <vcg_ext/smooth.h>
 #include <vcg_ext/spatial_taubin.h>
+
+#include <set>
 
 using namespace vcg_ext;
 
@@ -80,4 +83,42 @@ TEST(SpatialTaubin, RenumberingBringsNeighboursTogether) {
   for (int v = 0; v < n; ++v) ++seen[taubin.local(v)];
   EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), n);
   EXPECT_EQ(taubin.toGlobal(taubin.toLocal(m.points)), m.points);
+}
+
+TEST(SpatialOrder, SameMeshInAnOrderThatDoesNotDependOnTheInputOrder) {
+  MeshArrays m = test_meshes::cylinder(1.0, 2.0, 24, 12);
+  m.selected.assign(m.points.size(), 0);
+  for (size_t v = 0; v < m.points.size(); v += 5) m.selected[v] = 1;
+  const SpatialOrder order = spatialOrder(m);
+  const int n = int(m.points.size());
+  ASSERT_EQ(order.mesh.points.size(), m.points.size());
+  // Every vertex once, with its position and selection.
+  std::vector<int> seen(n, 0);
+  for (int v = 0; v < n; ++v) {
+    ++seen[order.input_of[v]];
+    EXPECT_EQ(order.mesh.points[v], m.points[order.input_of[v]]);
+    EXPECT_EQ(order.mesh.selected[v], m.selected[order.input_of[v]]);
+  }
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), n);
+  // The same oriented faces: each input face, mapped and rotated to its lowest corner, appears.
+  auto canonical = [](Face f) {
+    std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+    return f;
+  };
+  std::multiset<Face> expected, got(order.mesh.faces.begin(), order.mesh.faces.end());
+  std::vector<int> new_of(n);
+  for (int v = 0; v < n; ++v) new_of[order.input_of[v]] = v;
+  for (const Face &f : m.faces) expected.insert(canonical({new_of[f[0]], new_of[f[1]], new_of[f[2]]}));
+  EXPECT_EQ(got, expected);
+  EXPECT_TRUE(std::is_sorted(order.mesh.faces.begin(), order.mesh.faces.end()));
+  // Values computed in the new order go back to the input's.
+  std::vector<Vec3> values = order.mesh.points;
+  order.toInputOrder(values);
+  EXPECT_EQ(values, m.points);
+
+  // Any renumbering and face order of the input gives the same reordered mesh.
+  const std::vector<int> perm = test_meshes::shuffledPermutation(n, 9);
+  const SpatialOrder again = spatialOrder(test_meshes::facesReordered(test_meshes::permuted(m, perm), 4));
+  EXPECT_EQ(again.mesh.points, order.mesh.points);
+  EXPECT_EQ(again.mesh.faces, order.mesh.faces);
 }
