@@ -1,6 +1,7 @@
 // Meshes of analytic surfaces with known curvature, as plain arrays, for the unit tests.
 #pragma once
 
+#include <vcg_ext/curvature.h>
 #include <vcg_ext/mesh_arrays.h>
 
 #include <algorithm>
@@ -127,6 +128,18 @@ inline void addNoise(MeshArrays &m, double sigma, unsigned seed,
     if (direction) m.points[i] += g(rng) * direction(i);
     else m.points[i] += Vec3(g(rng), g(rng), g(rng));
   }
+}
+
+// A copy with Gaussian noise of standard deviation `sigma` along the clean vertex normals (the
+// literature's noise model).
+inline MeshArrays withNormalNoise(const MeshArrays &clean, double sigma, unsigned seed) {
+  MeshArrays noisy = clean;
+  std::vector<Vec3> normals;
+  vcg_ext::computeVertexNormals(clean.points, clean.faces,
+                                vcg_ext::computeRings(int(clean.points.size()), clean.faces),
+                                normals);
+  addNoise(noisy, sigma, seed, [&](int i) { return normals[i]; });
+  return noisy;
 }
 
 // The same mesh with vertices renumbered by `perm` (new index = perm[old]).

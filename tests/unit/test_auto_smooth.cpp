@@ -26,15 +26,6 @@ std::vector<Vec3> faceNormals(const MeshArrays &m) {
   return g.normal;
 }
 
-MeshArrays withNormalNoise(const MeshArrays &clean, double sigma, unsigned seed) {
-  MeshArrays noisy = clean;
-  std::vector<Vec3> normals;
-  computeVertexNormals(clean.points, clean.faces,
-                       computeRings(int(clean.points.size()), clean.faces), normals);
-  test_meshes::addNoise(noisy, sigma, seed, [&](int i) { return normals[i]; });
-  return noisy;
-}
-
 MeshArrays withRandomNoise(const MeshArrays &clean, double sigma, unsigned seed) {
   MeshArrays noisy = clean;
   test_meshes::addNoise(noisy, sigma, seed);
@@ -95,7 +86,7 @@ TEST(SharpFeatureEvidence, DegenerateFacesAreSkipped) {
 
 TEST(AutoSmooth, NoisyBoxGoesToTheFeatureModeWithItsExactResult) {
   const MeshArrays clean = test_meshes::box(1.0, 0.8, 0.6, 16);
-  const MeshArrays noisy = withNormalNoise(clean, 0.3 * meanEdge(clean), 3);
+  const MeshArrays noisy = test_meshes::withNormalNoise(clean, 0.3 * meanEdge(clean), 3);
   std::vector<Vec3> out, feature;
   const AutoSmoothReport r = autoSmoothed(noisy, out);
   VertexQuantities q;

@@ -31,20 +31,11 @@ double meanEdge(const MeshArrays &m) {
 }
 
 // Gaussian noise along each vertex's area-weighted normal (the literature's noise).
-MeshArrays withNormalNoise(const MeshArrays &clean, double sigma, unsigned seed) {
-  MeshArrays noisy = clean;
-  std::vector<Vec3> normals;
-  computeVertexNormals(clean.points, clean.faces,
-                       computeRings(int(clean.points.size()), clean.faces), normals);
-  test_meshes::addNoise(noisy, sigma, seed, [&](int i) { return normals[i]; });
-  return noisy;
-}
-
 } // namespace
 
 TEST(FeatureSmooth, NoisyBoxKeepsItsEdgesBetterThanTheRingBarycentreMode) {
   const MeshArrays clean = test_meshes::box(1.0, 0.8, 0.6, 16);
-  const MeshArrays noisy = withNormalNoise(clean, 0.3 * meanEdge(clean), 3);
+  const MeshArrays noisy = test_meshes::withNormalNoise(clean, 0.3 * meanEdge(clean), 3);
   FeatureSmoothReport report;
   const std::vector<Vec3> out = featureSmoothed(noisy, FeatureSmoothParams(), &report);
   std::vector<Vec3> ring_barycentre;
@@ -89,7 +80,7 @@ TEST(FeatureSmooth, CleanBoxAndSphereStayAlmostUntouched) {
 
 TEST(FeatureSmooth, NoisySphereKeepsItsVolumeAndGetsSmooth) {
   const MeshArrays clean = test_meshes::icosphere(1.0, 4);
-  const MeshArrays noisy = withNormalNoise(clean, 0.3 * meanEdge(clean), 5);
+  const MeshArrays noisy = test_meshes::withNormalNoise(clean, 0.3 * meanEdge(clean), 5);
   FeatureSmoothReport report;
   const std::vector<Vec3> out = featureSmoothed(noisy, FeatureSmoothParams(), &report);
   EXPECT_LT(deviation(out, clean).theta_deg, 0.3 * deviation(noisy.points, clean).theta_deg);
@@ -127,7 +118,7 @@ TEST(FeatureSmooth, OpenBoundaryStaysInPlace) {
   // A noisy plane: boundary vertices move along the boundary and the normal, not inward.
   const MeshArrays clean =
       test_meshes::heightField(30, -1, 1, -1, 1, [](double, double) { return 0.0; });
-  const MeshArrays noisy = withNormalNoise(clean, 0.3 * meanEdge(clean), 9);
+  const MeshArrays noisy = test_meshes::withNormalNoise(clean, 0.3 * meanEdge(clean), 9);
   FeatureSmoothReport report;
   const std::vector<Vec3> out = featureSmoothed(noisy, FeatureSmoothParams(), &report);
   EXPECT_FALSE(report.closed);
@@ -154,7 +145,7 @@ TEST(FeatureSmooth, OpenBoundaryStaysInPlace) {
 
 TEST(FeatureSmooth, SameResultForOneAndTwoThreadsAndPermutedVertices) {
   const MeshArrays box = test_meshes::box(1.0, 0.8, 0.6, 10);
-  const MeshArrays noisy = withNormalNoise(box, 0.3 * meanEdge(box), 4);
+  const MeshArrays noisy = test_meshes::withNormalNoise(box, 0.3 * meanEdge(box), 4);
   const int threads = omp_get_max_threads();
   omp_set_num_threads(1);
   const std::vector<Vec3> one = featureSmoothed(noisy);
@@ -174,7 +165,7 @@ TEST(FeatureSmooth, SameResultForOneAndTwoThreadsAndPermutedVertices) {
 
 TEST(FeatureSmooth, FrozenVerticesAndInputStayAndCancelStops) {
   const MeshArrays sphere = test_meshes::icosphere(1.0, 3);
-  MeshArrays noisy = withNormalNoise(sphere, 0.3 * meanEdge(sphere), 6);
+  MeshArrays noisy = test_meshes::withNormalNoise(sphere, 0.3 * meanEdge(sphere), 6);
   noisy.points.push_back(Vec3(5, 5, 5)); // isolated: referenced by no face
   const MeshArrays copy = noisy;
   FeatureSmoothReport report;
@@ -195,7 +186,7 @@ TEST(FeatureSmooth, FrozenVerticesAndInputStayAndCancelStops) {
 
 TEST(FeatureSmooth, SelectedOnlyMovesOnlySelectedVertices) {
   const MeshArrays sphere = test_meshes::icosphere(1.0, 3);
-  MeshArrays noisy = withNormalNoise(sphere, 0.3 * meanEdge(sphere), 7);
+  MeshArrays noisy = test_meshes::withNormalNoise(sphere, 0.3 * meanEdge(sphere), 7);
   for (size_t i = 0; i < noisy.points.size(); ++i) noisy.selected[i] = noisy.points[i].z() > 0;
   FeatureSmoothParams params;
   params.selected_only = true;
@@ -214,17 +205,17 @@ TEST(FeatureSmooth, NoiseEstimateScalesTheSmoothing) {
   const MeshArrays clean = test_meshes::box(1.0, 0.8, 0.6, 16);
   const double edge = meanEdge(clean);
   FeatureSmoothReport faint, moderate, strong;
-  const MeshArrays faint_noise = withNormalNoise(clean, 0.05 * edge, 21);
+  const MeshArrays faint_noise = test_meshes::withNormalNoise(clean, 0.05 * edge, 21);
   EXPECT_EQ(featureSmoothed(faint_noise, FeatureSmoothParams(), &faint), faint_noise.points);
   EXPECT_EQ(faint.roughness, 0.0);
-  const MeshArrays moderate_noise = withNormalNoise(clean, 0.16 * edge, 22);
+  const MeshArrays moderate_noise = test_meshes::withNormalNoise(clean, 0.16 * edge, 22);
   const std::vector<Vec3> out = featureSmoothed(moderate_noise, FeatureSmoothParams(), &moderate);
   EXPECT_GT(moderate.roughness, 0.1);
   EXPECT_LT(moderate.roughness, 0.9);
   EXPECT_GT(moderate.normal_iterations, 0);
   EXPECT_LT(moderate.normal_iterations, FeatureSmoothParams().normals.iterations);
   EXPECT_LT(deviation(out, clean).theta_deg, 0.5 * deviation(moderate_noise.points, clean).theta_deg);
-  featureSmoothed(withNormalNoise(clean, 0.3 * edge, 23), FeatureSmoothParams(), &strong);
+  featureSmoothed(test_meshes::withNormalNoise(clean, 0.3 * edge, 23), FeatureSmoothParams(), &strong);
   EXPECT_EQ(strong.roughness, 1.0);
   EXPECT_LT(faint.dihedral_spread_deg, moderate.dihedral_spread_deg);
   EXPECT_LT(moderate.dihedral_spread_deg, strong.dihedral_spread_deg);
@@ -234,7 +225,7 @@ TEST(FeatureSmooth, NoiseEstimateScalesTheSmoothing) {
 // 162-vertex sphere); with `preserve_volume` the final offsets along the normals restore it.
 TEST(FeatureSmooth, PreserveVolumeRestoresTheInputVolumeOfACoarseMesh) {
   const MeshArrays clean = test_meshes::icosphere(1.0, 2);
-  const MeshArrays noisy = withNormalNoise(clean, 0.3 * meanEdge(clean), 11);
+  const MeshArrays noisy = test_meshes::withNormalNoise(clean, 0.3 * meanEdge(clean), 11);
   FeatureSmoothParams keep, lose;
   lose.preserve_volume = false;
   FeatureSmoothReport kept, lost;
