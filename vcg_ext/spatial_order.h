@@ -32,7 +32,6 @@ inline std::vector<int> mortonOrder(const std::vector<Vec3> &points) {
   for (const Vec3 &p : points)
     if (p.allFinite()) lowest = lowest.cwiseMin(p), highest = highest.cwiseMax(p);
   const double extent = (highest - lowest).maxCoeff();
-  const double scale = extent > 0 ? double((1 << 21) - 1) / extent : 0.0;
   auto spread = [](std::uint64_t x) { // 21 bits to every third bit of 63
     x &= 0x1fffff;
     x = (x | x << 32) & 0x1f00000000ffffull;
@@ -47,7 +46,9 @@ inline std::vector<int> mortonOrder(const std::vector<Vec3> &points) {
     if (points[v].allFinite()) {
       code[v] = 0;
       for (int k = 0; k < 3; ++k) {
-        const double c = std::clamp((points[v][k] - lowest[k]) * scale, 0.0, double(0x1fffff));
+        // In [0, 1] for any finite extent; NaN (an infinite or zero extent) counts as 0.
+        const double t = (points[v][k] - lowest[k]) / extent;
+        const double c = t >= 0 ? std::min(t, 1.0) * double(0x1fffff) : 0.0;
         code[v] |= spread(std::uint64_t(c)) << k;
       }
     }

@@ -122,3 +122,23 @@ TEST(SpatialOrder, SameMeshInAnOrderThatDoesNotDependOnTheInputOrder) {
   EXPECT_EQ(again.mesh.points, order.mesh.points);
   EXPECT_EQ(again.mesh.faces, order.mesh.faces);
 }
+
+TEST(SpatialOrder, ExtremeAndNonFiniteCoordinatesStillGiveAPermutation) {
+  // Coordinates spanning the whole double range (the extent overflows to infinity), a single
+  // point (zero extent), and NaN / infinite positions: an order of every vertex, non-finite last.
+  const std::vector<std::vector<Vec3>> cases = {
+      {Vec3(-1e308, 0, 0), Vec3(1e308, 1, 0), Vec3(0, -1e308, 1e308), Vec3(5, 5, 5)},
+      {Vec3(1, 2, 3), Vec3(1, 2, 3), Vec3(1, 2, 3)},
+      {Vec3(NAN, 0, 0), Vec3(0, 0, 0), Vec3(INFINITY, 1, 1), Vec3(1, 1, 1), Vec3(4e-320, 0, 0)}};
+  for (const std::vector<Vec3> &points : cases) {
+    const std::vector<int> order = mortonOrder(points);
+    std::vector<int> sorted = order;
+    std::sort(sorted.begin(), sorted.end());
+    for (int v = 0; v < int(points.size()); ++v) EXPECT_EQ(sorted[v], v);
+    bool seen_non_finite = false;
+    for (int v : order) {
+      if (!points[v].allFinite()) seen_non_finite = true;
+      else EXPECT_FALSE(seen_non_finite) << "a finite vertex after a non-finite one";
+    }
+  }
+}
