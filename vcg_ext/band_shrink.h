@@ -58,9 +58,11 @@ struct BandShrinkParams {
   // number of probe values. So the count follows the mesh size: enough probes for
   // `fine_band_probe_vertices` probe vertices, at most `max_fine_band_probes`. (With one probe the
   // armadillo, 26k vertices, read 0.17-0.19 depending on how its coordinates were rounded, and α
-  // moved with it; nine probes on the 1.9k-vertex three_peaks read 0.12-0.16, across the α band.)
+  // moved with it.) The cap keeps their cost below a fifth of the band shrinkage's: 250k probe
+  // vertices on every mesh took the 10k camel to 3.3x the ring barycentre's time (26 probes), and
+  // its gain was small (three_peaks, 1.9k vertices, 132 probes: 7.71 -> 7.23°, Taubin 6.92°).
   double fine_band_probe_vertices = 250000;
-  int max_fine_band_probes = 200;
+  int max_fine_band_probes = 9;
 };
 
 struct BandShrinkReport {

@@ -122,6 +122,9 @@ TEST(BandShrink, FineBandProbeCountFollowsTheMeshSize) {
   EXPECT_EQ(one.fine_band_probes, 1);
   EXPECT_EQ(run(BandShrinkParams().fine_band_probe_vertices, 200).fine_band_probes,
             std::min<long>(200, (250000 + movable - 1) / movable));
+  const BandShrinkParams defaults;
+  EXPECT_EQ(run(defaults.fine_band_probe_vertices, defaults.max_fine_band_probes).fine_band_probes,
+            9); // the default cap, on a small mesh
   EXPECT_NE(many.fine_snr, one.fine_snr);
   EXPECT_EQ(many.noise_sigma, one.noise_sigma); // only the fine band's estimate changes
 }
