@@ -16,10 +16,15 @@
 // smoothing follows from the mesh, not from a step count chosen per case.
 //
 // θ (face normals) wants more smoothing than the position error does when the mesh is smooth at
-// the scale of its edges; the shape energy left in the 4–8 pair band tells the two kinds apart
-// (bench/random_noise/scale_selection.py, bench/FEATURE_MODE.md: α 3 at a band SNR up to 0.12,
-// α 1 from 0.16; the four meshes the constants were chosen on read 0.06, 0.12-0.13, 0.17, 0.5).
-//
+// the scale of its edges: α, the over-subtraction, follows the slope of the shape's own spectrum,
+// the shape energy of the 64–128 pair band over that of the 8–16 pair band (2.3–2.9 on the
+// armadillo and the elephant, which want α = 1; 6–14 on the lion head, three_peaks, camel, dino,
+// which want 1.5–4). Unlike a band's shape-to-noise ratio, the slope hardly moves with the noise
+// level (armadillo 2.81–2.89 from 0.2 to 0.3 edge lengths of noise). Where the fine band still holds
+// much shape (shape/noise above 0.2, as on the coarse cow), α stays nearer 1, and so it does at low
+// noise (below 0.25 mean edge lengths; at 0.1 the lion head wants 1.3–1.5, at 0.2–0.3 1.5–2).
+// Chosen on 89 noisy meshes (bench/FEATURE_MODE.md, "How much smoothing").
+
 // The probe's values come from a hash of each vertex's position in the mesh's own frame (bounding
 // box corner, mean edge length), and every sum runs in vertex order on one thread, so the result
 // depends neither on the vertex order or the thread count nor on the mesh's scale or placement.
@@ -43,10 +48,19 @@ struct BandShrinkParams {
   // faces: θ 16.5 against Taubin's best 14.7); 1.0001 for −0.51, ×1.013 over 128 pairs.
   double lambda = 0.5, mu = -0.51;
   int normal_pairs = 8;           // the band energies are taken along the normals of this snapshot
-  int fine_band = 3;              // index of the band whose shape-to-noise ratio chooses α (4–8)
-  double fine_snr_smooth = 0.12;  // at or below: α = alpha_smooth
-  double fine_snr_detailed = 0.16; // at or above: α = alpha_detailed; linear in between
-  double alpha_smooth = 3.0, alpha_detailed = 1.0;
+  // α = 1 + alpha_per_slope · (slope − slope_at_alpha_one) · gate · level, within [1, max_alpha];
+  // slope: shape energy of band `slope_coarse_band` over band `slope_fine_band`; gate: 1 at a
+  // fine-band shape/noise ratio up to gate_snr_full, 0 from gate_snr_none (linear in between);
+  // level: the noise estimate over noise_for_full_alpha mean edge lengths, at most 1. Fitted on
+  // 89 noisy meshes (mean θ 1.8 % above each mesh's best α; the earlier threshold on the fine
+  // band alone: 4.1 %). bench/FEATURE_MODE.md.
+  int fine_band = 3;              // band whose shape/noise ratio gates α (4–8 pairs)
+  int slope_fine_band = 4, slope_coarse_band = 7; // 8–16 and 64–128 pairs
+  double slope_at_alpha_one = 4.0, alpha_per_slope = 0.4, max_alpha = 2.5;
+  double gate_snr_full = 0.20, gate_snr_none = 0.35;
+  double noise_for_full_alpha = 0.25;
+  // The patch update's step (organic_smooth.h) grows with α: 0 at α = 1, whole at this α.
+  double alpha_whole_patch_step = 3.0;
   double noise_scale = 1.0;       // multiplies the noise estimate (0: nothing is removed)
   // Boundary vertices follow their boundary curve for at most this many pairs, then stay: a curve
   // smoothed for hundreds of pairs drifts off the surface (lion head Ev ×1e-3: 1.69 unlimited,
@@ -68,9 +82,10 @@ struct BandShrinkParams {
 struct BandShrinkReport {
   double noise_sigma = 0;    // estimated std of the noise along the normals (length units)
   double fine_snr = 0;       // shape-to-noise energy ratio of the fine band
+  double shape_slope = 0;    // coarse over fine band shape energy (at most 1e6: no fine shape)
   double alpha = 0;
   int fine_band_probes = 0;  // probes that measured the fine band's noise
-  double detail = 0;         // 0 (smooth at the edge scale: α = alpha_smooth) .. 1 (detailed)
+  double detail = 0;         // 0 (smooth at the edge scale) .. 1 (detailed: α = 1, no patch step)
   std::vector<double> gains; // per band, finest first
   bool cancelled = false;
 };
@@ -106,6 +121,20 @@ inline Vec3 positionHashedGaussian(const Vec3 &p, std::uint64_t stream = 0) {
 }
 
 } // namespace detail
+
+// The over-subtraction factor α from the shape's spectrum: its slope (coarse over fine band shape
+// energy), the fine band's shape-to-noise ratio and the noise level in mean edge lengths
+// (BandShrinkParams).
+inline double alphaFromSpectrum(double shape_slope, double fine_snr, double noise_edges,
+                                const BandShrinkParams &params) {
+  const double gate = std::clamp((params.gate_snr_none - fine_snr) /
+                                     (params.gate_snr_none - params.gate_snr_full),
+                                 0.0, 1.0);
+  const double level = std::clamp(noise_edges / params.noise_for_full_alpha, 0.0, 1.0);
+  const double rise = std::max(shape_slope - params.slope_at_alpha_one, 0.0);
+  const double alpha = 1.0 + params.alpha_per_slope * rise * gate * level;
+  return std::isfinite(alpha) ? std::clamp(alpha, 1.0, std::max(1.0, params.max_alpha)) : 1.0;
+}
 
 // The noise's standard deviation along the normals: median |(1-ring centre − p)·n| over the
 // interior movable vertices, as a normal std (/0.6745), corrected for the centre's own noise
@@ -160,11 +189,13 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   // Raw coordinates gave another probe, and a result 1e-3 of the bbox diagonal away, when the mesh
   // was scaled or moved (or gained an isolated vertex that widened the box).
   std::vector<Vec3> probe_key(n);
+  double mean_edge = 0;
   {
     Vec3 lowest = Vec3::Constant(INFINITY);
     for (int v = 0; v < n; ++v)
       if (rings.ring1Size(v) > 0) lowest = lowest.cwiseMin(points[v]);
-    const double cell = edgeStatistics(points, rings).mean_edge_length / 16.0;
+    mean_edge = edgeStatistics(points, rings).mean_edge_length;
+    const double cell = mean_edge / 16.0;
     for (int v = 0; v < n; ++v)
       probe_key[v] = cell > 0 && rings.ring1Size(v) > 0
                          ? Vec3(((points[v] - lowest) / cell).array().floor())
@@ -246,10 +277,18 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   }
   fine_noise /= probes;
   report.fine_snr = fine_noise > 0 ? std::max(energy[fine] - fine_noise, 0.0) / fine_noise : 0.0;
-  report.detail = std::clamp((report.fine_snr - params.fine_snr_smooth) /
-                                 (params.fine_snr_detailed - params.fine_snr_smooth),
+  auto shape_energy = [&](int b) {
+    b = std::clamp(b, 0, bands - 1);
+    return std::max(energy[b] - (b == fine ? fine_noise : noise_energy[b]), 0.0);
+  };
+  const double fine_shape = shape_energy(params.slope_fine_band),
+               coarse_shape = shape_energy(params.slope_coarse_band);
+  report.shape_slope = fine_shape * 1e6 > coarse_shape ? coarse_shape / fine_shape : 1e6;
+  report.alpha = alphaFromSpectrum(report.shape_slope, report.fine_snr,
+                                   mean_edge > 0 ? report.noise_sigma / mean_edge : 0.0, params);
+  report.detail = std::clamp((params.alpha_whole_patch_step - report.alpha) /
+                                 (params.alpha_whole_patch_step - 1.0),
                              0.0, 1.0);
-  report.alpha = params.alpha_smooth + report.detail * (params.alpha_detailed - params.alpha_smooth);
   report.gains.resize(bands);
   for (int b = 0; b < bands; ++b)
     report.gains[b] = energy[b] > 0

@@ -129,6 +129,47 @@ TEST(BandShrink, FineBandProbeCountFollowsTheMeshSize) {
   EXPECT_EQ(many.noise_sigma, one.noise_sigma); // only the fine band's estimate changes
 }
 
+TEST(BandShrink, AlphaRisesWithTheSpectrumSlopeUnlessTheFineBandHoldsShape) {
+  // α = 1 + 0.4 (slope − 4) · gate · level, in [1, 2.5]; gate 1 → 0 over a fine-band
+  // shape/noise ratio of 0.2–0.35; level: noise / 0.25 mean edge lengths, at most 1.
+  const BandShrinkParams p;
+  EXPECT_EQ(alphaFromSpectrum(2.8, 0.0, 0.3, p), 1.0);           // armadillo-like: shallow spectrum
+  EXPECT_DOUBLE_EQ(alphaFromSpectrum(6.5, 0.1, 0.3, p), 2.0);    // lion-head-like
+  EXPECT_DOUBLE_EQ(alphaFromSpectrum(6.5, 0.275, 0.3, p), 1.5);  // half gated
+  EXPECT_DOUBLE_EQ(alphaFromSpectrum(6.5, 0.1, 0.125, p), 1.5);  // half the noise level
+  EXPECT_EQ(alphaFromSpectrum(6.5, 0.4, 0.3, p), 1.0);           // fine band full of shape
+  EXPECT_EQ(alphaFromSpectrum(1e6, 0.0, 0.3, p), 2.5);           // no fine shape at all: capped
+  EXPECT_EQ(alphaFromSpectrum(1e6, 1e6, 0.3, p), 1.0);           // no NaN from 0 · large
+  EXPECT_EQ(alphaFromSpectrum(INFINITY, 0.0, 0.0, p), 1.0);
+  for (double slope = 0; slope < 12; slope += 0.5)
+    EXPECT_LE(alphaFromSpectrum(slope, 0.1, 0.2, p), alphaFromSpectrum(slope + 0.5, 0.1, 0.2, p));
+}
+
+TEST(BandShrink, SpectrumSlopeSeparatesFineDetailFromSmoothShape) {
+  // The same noise on spheres with bumps a few edges wide (shape in the fine bands) and with
+  // one broad bulge (smooth at the edge scale).
+  auto shrink = [](int frequency, double amplitude) {
+    MeshArrays bumpy = test_meshes::icosphere(1.0, 4);
+    for (Vec3 &p : bumpy.points)
+      p *= 1.0 + amplitude * std::sin(frequency * p.x()) * std::sin(frequency * p.y()) *
+                     std::sin(frequency * p.z());
+    test_meshes::addNoise(bumpy, 0.25 * meanEdge(bumpy), 7);
+    const Topology s(bumpy);
+    std::vector<Vec3> points = bumpy.points;
+    return bandShrinkSmooth(points, bumpy.faces, s.rings, s.fixed, s.roles.boundary_neighbours,
+                            BandShrinkParams());
+  };
+  // Measured: slope 0.83, fine-band shape/noise 0.29 (bumps 12); slope 1e6, no fine-band
+  // shape (bulge 4).
+  const BandShrinkReport bumps = shrink(12, 0.05), bulge = shrink(4, 0.1);
+  EXPECT_LT(bumps.shape_slope, 2.0);
+  EXPECT_EQ(bumps.alpha, 1.0);
+  EXPECT_EQ(bumps.detail, 1.0); // no patch step
+  EXPECT_GT(bulge.shape_slope, 10.0);
+  EXPECT_EQ(bulge.alpha, BandShrinkParams().max_alpha);
+  EXPECT_DOUBLE_EQ(bulge.detail, 0.25);
+}
+
 namespace {
 
 // Taubin's result at its best step count (1..120 pairs) against `clean`: the oracle the organic
@@ -159,8 +200,10 @@ TEST(BandShrink, NoisySphereComesCloseToTaubinAtItsBestStepCount) {
   EXPECT_NEAR(r.noise_sigma / (0.25 * meanEdge(clean)), 1.0, 0.15);
   EXPECT_EQ(r.gains.front(), 0.0);
   for (size_t b = 1; b < r.gains.size(); ++b) EXPECT_GE(r.gains[b], r.gains[b - 1]) << b;
-  // A sphere is smooth at the edge scale: the strong setting.
-  EXPECT_EQ(r.alpha, BandShrinkParams().alpha_smooth);
+  // A sphere is smooth at the edge scale: its shape energy sits in the coarse bands (a steep
+  // spectrum), so α takes its largest value.
+  EXPECT_GT(r.shape_slope, 8.0); // measured 11.6
+  EXPECT_EQ(r.alpha, BandShrinkParams().max_alpha);
   // Measured 1.58° vs 2.04° (with MeshLab's μ = −0.53 and 256 pairs, 2.57°: Taubin's pass-band
   // gain compounds over many pairs, see BandShrinkParams::mu).
   const double best_taubin = bestTaubinTheta(noisy, clean);
