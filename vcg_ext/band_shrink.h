@@ -59,6 +59,7 @@ struct BandShrinkParams {
   double slope_at_alpha_one = 4.0, alpha_per_slope = 0.4, max_alpha = 2.5;
   double gate_snr_full = 0.20, gate_snr_none = 0.35;
   double noise_for_full_alpha = 0.25;
+  double fixed_alpha = 0; // > 0: this α instead (for measuring the choice: bench/alpha_choice.py)
   // The patch update's step (organic_smooth.h) grows with α: 0 at α = 1, whole at this α.
   double alpha_whole_patch_step = 3.0;
   double noise_scale = 1.0;       // multiplies the noise estimate (0: nothing is removed)
@@ -83,6 +84,7 @@ struct BandShrinkReport {
   double noise_sigma = 0;    // estimated std of the noise along the normals (length units)
   double fine_snr = 0;       // shape-to-noise energy ratio of the fine band
   double shape_slope = 0;    // coarse over fine band shape energy (at most 1e6: no fine shape)
+  double noise_edges = 0;    // noise_sigma in mean edge lengths
   double alpha = 0;
   int fine_band_probes = 0;  // probes that measured the fine band's noise
   double detail = 0;         // 0 (smooth at the edge scale) .. 1 (detailed: α = 1, no patch step)
@@ -284,8 +286,11 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   const double fine_shape = shape_energy(params.slope_fine_band),
                coarse_shape = shape_energy(params.slope_coarse_band);
   report.shape_slope = fine_shape * 1e6 > coarse_shape ? coarse_shape / fine_shape : 1e6;
-  report.alpha = alphaFromSpectrum(report.shape_slope, report.fine_snr,
-                                   mean_edge > 0 ? report.noise_sigma / mean_edge : 0.0, params);
+  report.noise_edges = mean_edge > 0 ? report.noise_sigma / mean_edge : 0.0;
+  report.alpha = params.fixed_alpha > 0
+                     ? params.fixed_alpha
+                     : alphaFromSpectrum(report.shape_slope, report.fine_snr, report.noise_edges,
+                                         params);
   report.detail = std::clamp((params.alpha_whole_patch_step - report.alpha) /
                                  (params.alpha_whole_patch_step - 1.0),
                              0.0, 1.0);

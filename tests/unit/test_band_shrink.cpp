@@ -168,6 +168,17 @@ TEST(BandShrink, SpectrumSlopeSeparatesFineDetailFromSmoothShape) {
   EXPECT_GT(bulge.shape_slope, 10.0);
   EXPECT_EQ(bulge.alpha, BandShrinkParams().max_alpha);
   EXPECT_DOUBLE_EQ(bulge.detail, 0.25);
+  EXPECT_NEAR(bulge.noise_edges, 0.25, 0.03);
+  // A fixed α (for measuring the choice) replaces it, and the patch step follows it.
+  BandShrinkParams fixed;
+  fixed.fixed_alpha = 1.7;
+  MeshArrays sphere = test_meshes::icosphere(1.0, 3);
+  test_meshes::addNoise(sphere, 0.25 * meanEdge(sphere), 7);
+  const Topology s(sphere);
+  const BandShrinkReport r = bandShrinkSmooth(sphere.points, sphere.faces, s.rings, s.fixed,
+                                              s.roles.boundary_neighbours, fixed);
+  EXPECT_EQ(r.alpha, 1.7);
+  EXPECT_DOUBLE_EQ(r.detail, 0.65);
 }
 
 namespace {
