@@ -23,7 +23,7 @@
 // level (armadillo 2.81–2.89 from 0.2 to 0.3 edge lengths of noise). Where the fine band still holds
 // much shape (shape/noise above 0.2, as on the coarse cow), α stays nearer 1, and so it does at low
 // noise (below 0.25 mean edge lengths; at 0.1 the lion head wants 1.3–1.5, at 0.2–0.3 1.5–2).
-// Chosen on 89 noisy meshes (bench/FEATURE_MODE.md, "How much smoothing").
+// Fitted on 81 noisy cases of 18 meshes (bench/ALPHA_CHOICE.md, python3 bench/alpha_choice.py).
 
 // The probe's values come from a hash of each vertex's position in the mesh's own frame (bounding
 // box corner, mean edge length), and every sum runs in vertex order on one thread, so the result
@@ -51,9 +51,9 @@ struct BandShrinkParams {
   // α = 1 + alpha_per_slope · (slope − slope_at_alpha_one) · gate · level, within [1, max_alpha];
   // slope: shape energy of band `slope_coarse_band` over band `slope_fine_band`; gate: 1 at a
   // fine-band shape/noise ratio up to gate_snr_full, 0 from gate_snr_none (linear in between);
-  // level: the noise estimate over noise_for_full_alpha mean edge lengths, at most 1. Fitted on
-  // 89 noisy meshes (mean θ 1.8 % above each mesh's best α; the earlier threshold on the fine
-  // band alone: 4.1 %). bench/FEATURE_MODE.md.
+  // level: the noise estimate over noise_for_full_alpha mean edge lengths, at most 1. θ 1.80 %
+  // above the best α of a grid on average, the earlier threshold on the fine band alone 4.41 %,
+  // the best fixed α (1.5) 4.39 % (bench/ALPHA_CHOICE.md).
   int fine_band = 3;              // band whose shape/noise ratio gates α (4–8 pairs)
   int slope_fine_band = 4, slope_coarse_band = 7; // 8–16 and 64–128 pairs
   double slope_at_alpha_one = 4.0, alpha_per_slope = 0.4, max_alpha = 2.5;
