@@ -344,6 +344,16 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
 
   std::vector<vcg_ext::Vec3> result;
   vcg_ext::VertexQuantities q;
+  // The issue-8 modes end alike: a cancelled run leaves the mesh as it was; a finished one is
+  // stored, with its log and a note of values clamped to the mesh's number type.
+  auto finish = [&](bool cancelled, const auto &log_of_run) {
+    if (cancelled) return out.error = "Cancelled: the mesh is unchanged.", out;
+    const long clamped = detail::storeSmoothingResult(m, arrays, result, q, int(p.at("quality")));
+    out.log = log_of_run();
+    if (clamped > 0) out.log.push_back(detail::clampedLog(clamped));
+    out.ok = true;
+    return out;
+  };
   if (int(p.at("placement")) == 3) {
     vcg_ext::FeatureSmoothParams feature;
     feature.selected_only = params.selected_only;
@@ -351,12 +361,7 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
     feature.saliency_scale = params.saliency_scale;
     const vcg_ext::FeatureSmoothReport r =
         vcg_ext::featureSmoothMesh(arrays, feature, result, q, detail::progressOf(cb));
-    if (r.cancelled) return out.error = "Cancelled: the mesh is unchanged.", out;
-    const long clamped = detail::storeSmoothingResult(m, arrays, result, q, int(p.at("quality")));
-    out.log = detail::featureLog(r, arrays.points.size());
-    if (clamped > 0) out.log.push_back(detail::clampedLog(clamped));
-    out.ok = true;
-    return out;
+    return finish(r.cancelled, [&] { return detail::featureLog(r, arrays.points.size()); });
   }
   if (int(p.at("placement")) == 5) {
     vcg_ext::AutoSmoothParams automatic;
@@ -366,12 +371,7 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
     automatic.feature.saliency_scale = automatic.organic.saliency_scale = params.saliency_scale;
     const vcg_ext::AutoSmoothReport r =
         vcg_ext::autoSmoothMesh(arrays, automatic, result, q, detail::progressOf(cb));
-    if (r.cancelled) return out.error = "Cancelled: the mesh is unchanged.", out;
-    const long clamped = detail::storeSmoothingResult(m, arrays, result, q, int(p.at("quality")));
-    out.log = detail::autoLog(r, arrays.points.size());
-    if (clamped > 0) out.log.push_back(detail::clampedLog(clamped));
-    out.ok = true;
-    return out;
+    return finish(r.cancelled, [&] { return detail::autoLog(r, arrays.points.size()); });
   }
   if (int(p.at("placement")) == 4) {
     vcg_ext::OrganicSmoothParams organic;
@@ -380,12 +380,7 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
     organic.saliency_scale = params.saliency_scale;
     const vcg_ext::OrganicSmoothReport r =
         vcg_ext::organicSmoothMesh(arrays, organic, result, q, detail::progressOf(cb));
-    if (r.cancelled) return out.error = "Cancelled: the mesh is unchanged.", out;
-    const long clamped = detail::storeSmoothingResult(m, arrays, result, q, int(p.at("quality")));
-    out.log = detail::organicLog(r, arrays.points.size());
-    if (clamped > 0) out.log.push_back(detail::clampedLog(clamped));
-    out.ok = true;
-    return out;
+    return finish(r.cancelled, [&] { return detail::organicLog(r, arrays.points.size()); });
   }
   const vcg_ext::SmoothReport r =
       vcg_ext::smoothMesh(arrays, params, result, q, detail::progressOf(cb));
