@@ -244,9 +244,10 @@ inline std::vector<std::string> organicLog(const vcg_ext::OrganicSmoothReport &r
                        "the normals %.3f mean edge lengths.",
                        r.dihedral_spread_deg, r.roughness,
                        r.mean_edge_length > 0 ? r.bands.noise_sigma / r.mean_edge_length : 0.0));
-  std::string gains = format("Shape spectrum slope %.2f, fine-band shape/noise %.2f: alpha %.2f; "
-                             "band gains (fine to coarse):",
-                             r.bands.shape_slope, r.bands.fine_snr, r.bands.alpha);
+  std::string gains = format("Shape spectrum slope %.2f, coarse-band shape/noise %.2f, fine-band "
+                             "shape/noise %.2f: alpha %.2f; band gains (fine to coarse):",
+                             r.bands.shape_slope, r.bands.coarse_snr, r.bands.fine_snr,
+                             r.bands.alpha);
   for (double g : r.bands.gains) gains += format(" %.2f", g);
   log.push_back(gains + ".");
   if (r.roughness == 0)

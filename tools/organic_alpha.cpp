@@ -6,7 +6,7 @@
 //
 // An alpha of 0 means "chosen from the mesh" (the filter's behaviour). Each run writes
 // <prefix>_<alpha>.ply and prints one JSON line on stdout: the α used and what the choice reads
-// (shape spectrum slope, fine-band shape/noise ratio, noise in mean edge lengths).
+// (shape spectrum slope, fine- and coarse-band shape/noise ratios, noise in mean edge lengths).
 #include "tool_mesh.h"
 
 #include <vcg_ext/mesh_arrays.h>
@@ -36,8 +36,8 @@ int main(int argc, char **argv) {
     const std::string out = std::string(argv[2]) + "_" + text + ".ply";
     if (!tool_mesh::save(mesh, out, "organic_alpha", false)) return 2;
     std::printf("{\"fixed_alpha\": %s, \"alpha\": %.6g, \"shape_slope\": %.6g, \"fine_snr\": %.6g, "
-                "\"noise_edges\": %.6g, \"roughness\": %.6g, \"output\": \"%s\"}\n",
-                text.c_str(), r.bands.alpha, r.bands.shape_slope, r.bands.fine_snr,
+                "\"coarse_snr\": %.6g, \"noise_edges\": %.6g, \"roughness\": %.6g, \"output\": \"%s\"}\n",
+                text.c_str(), r.bands.alpha, r.bands.shape_slope, r.bands.fine_snr, r.bands.coarse_snr,
                 r.bands.noise_edges, r.roughness, out.c_str());
   }
   return 0;

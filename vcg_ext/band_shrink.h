@@ -23,6 +23,10 @@
 // level (armadillo 2.81–2.89 from 0.2 to 0.3 edge lengths of noise). Where the fine band still holds
 // much shape (shape/noise above 0.2, as on the coarse cow), α stays nearer 1, and so it does at low
 // noise (below 0.25 mean edge lengths; at 0.1 the lion head wants 1.3–1.5, at 0.2–0.3 1.5–2).
+// Where even the coarse band holds little shape beyond the noise (a sphere, a cylinder, smooth CAD
+// parts: shape/noise below 2–4 there) the slope is a ratio of two noisy near-zeros, and the mesh
+// is smooth at every band's scale: α takes its largest value (sphere at 0.25 random: θ 2.08 at
+// α 3, 2.68 at 1; bench/MODE_CHOICE.md).
 // Fitted on 81 noisy cases of 18 meshes (bench/ALPHA_CHOICE.md, python3 bench/alpha_choice.py).
 
 // The probe's values come from a hash of each vertex's position in the mesh's own frame (bounding
@@ -48,8 +52,11 @@ struct BandShrinkParams {
   // faces: θ 16.5 against Taubin's best 14.7); 1.0001 for −0.51, ×1.013 over 128 pairs.
   double lambda = 0.5, mu = -0.51;
   int normal_pairs = 8;           // the band energies are taken along the normals of this snapshot
-  // α = 1 + alpha_per_slope · (slope − slope_at_alpha_one) · gate · level, within [1, max_alpha];
-  // slope: shape energy of band `slope_coarse_band` over band `slope_fine_band`; gate: 1 at a
+  // α = 1 + rise · gate · level, within [1, max_alpha]; rise: the larger of
+  // alpha_per_slope · (slope − slope_at_alpha_one) and (max_alpha − 1) · smooth, where slope is
+  // the shape energy of band `slope_coarse_band` over band `slope_fine_band` and smooth goes from 1
+  // to 0 as that coarse band's shape/noise ratio rises from coarse_snr_smooth to
+  // coarse_snr_detailed; gate: 1 at a
   // fine-band shape/noise ratio up to gate_snr_full, 0 from gate_snr_none (linear in between);
   // level: the noise estimate over noise_for_full_alpha mean edge lengths, at most 1. θ 1.80 %
   // above the best α of a grid on average, the earlier threshold on the fine band alone 4.41 %,
@@ -58,6 +65,7 @@ struct BandShrinkParams {
   int slope_fine_band = 4, slope_coarse_band = 7; // 8–16 and 64–128 pairs
   double slope_at_alpha_one = 4.0, alpha_per_slope = 0.4, max_alpha = 2.5;
   double gate_snr_full = 0.20, gate_snr_none = 0.35;
+  double coarse_snr_smooth = 2.0, coarse_snr_detailed = 4.0;
   double noise_for_full_alpha = 0.25;
   double fixed_alpha = 0; // > 0: this α instead (for measuring the choice: bench/alpha_choice.py)
   // The patch update's step (organic_smooth.h) grows with α: 0 at α = 1, whole at this α.
@@ -84,6 +92,7 @@ struct BandShrinkReport {
   double noise_sigma = 0;    // estimated std of the noise along the normals (length units)
   double fine_snr = 0;       // shape-to-noise energy ratio of the fine band
   double shape_slope = 0;    // coarse over fine band shape energy (at most 1e6: no fine shape)
+  double coarse_snr = 0;     // shape-to-noise energy ratio of the slope's coarse band
   double noise_edges = 0;    // noise_sigma in mean edge lengths
   double alpha = 0;
   int fine_band_probes = 0;  // probes that measured the fine band's noise
@@ -125,16 +134,21 @@ inline Vec3 positionHashedGaussian(const Vec3 &p, std::uint64_t stream = 0) {
 } // namespace detail
 
 // The over-subtraction factor α from the shape's spectrum: its slope (coarse over fine band shape
-// energy), the fine band's shape-to-noise ratio and the noise level in mean edge lengths
-// (BandShrinkParams).
-inline double alphaFromSpectrum(double shape_slope, double fine_snr, double noise_edges,
-                                const BandShrinkParams &params) {
+// energy), the coarse and fine bands' shape-to-noise ratios and the noise level in mean edge
+// lengths (BandShrinkParams).
+inline double alphaFromSpectrum(double shape_slope, double coarse_snr, double fine_snr,
+                                double noise_edges, const BandShrinkParams &params) {
   const double gate = std::clamp((params.gate_snr_none - fine_snr) /
                                      (params.gate_snr_none - params.gate_snr_full),
                                  0.0, 1.0);
   const double level = std::clamp(noise_edges / params.noise_for_full_alpha, 0.0, 1.0);
-  const double rise = std::max(shape_slope - params.slope_at_alpha_one, 0.0);
-  const double alpha = 1.0 + params.alpha_per_slope * rise * gate * level;
+  const double smooth = std::clamp((params.coarse_snr_detailed - coarse_snr) /
+                                      (params.coarse_snr_detailed - params.coarse_snr_smooth),
+                                  0.0, 1.0);
+  const double rise =
+      std::max(params.alpha_per_slope * std::max(shape_slope - params.slope_at_alpha_one, 0.0),
+               (params.max_alpha - 1.0) * smooth);
+  const double alpha = 1.0 + rise * gate * level;
   return std::isfinite(alpha) ? std::clamp(alpha, 1.0, std::max(1.0, params.max_alpha)) : 1.0;
 }
 
@@ -286,11 +300,13 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   const double fine_shape = shape_energy(params.slope_fine_band),
                coarse_shape = shape_energy(params.slope_coarse_band);
   report.shape_slope = fine_shape * 1e6 > coarse_shape ? coarse_shape / fine_shape : 1e6;
+  const int coarse = std::clamp(params.slope_coarse_band, 0, bands - 1);
+  report.coarse_snr = noise_energy[coarse] > 0 ? coarse_shape / noise_energy[coarse] : 1e6;
   report.noise_edges = mean_edge > 0 ? report.noise_sigma / mean_edge : 0.0;
   report.alpha = params.fixed_alpha > 0
                      ? params.fixed_alpha
-                     : alphaFromSpectrum(report.shape_slope, report.fine_snr, report.noise_edges,
-                                         params);
+                     : alphaFromSpectrum(report.shape_slope, report.coarse_snr, report.fine_snr,
+                                         report.noise_edges, params);
   report.detail = std::clamp((params.alpha_whole_patch_step - report.alpha) /
                                  (params.alpha_whole_patch_step - 1.0),
                              0.0, 1.0);

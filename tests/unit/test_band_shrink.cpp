@@ -130,19 +130,26 @@ TEST(BandShrink, FineBandProbeCountFollowsTheMeshSize) {
 }
 
 TEST(BandShrink, AlphaRisesWithTheSpectrumSlopeUnlessTheFineBandHoldsShape) {
-  // α = 1 + 0.4 (slope − 4) · gate · level, in [1, 2.5]; gate 1 → 0 over a fine-band
-  // shape/noise ratio of 0.2–0.35; level: noise / 0.25 mean edge lengths, at most 1.
+  // α = 1 + rise · gate · level, in [1, 2.5]; rise: the larger of 0.4 (slope − 4) and 1.5 as the
+  // coarse band's shape/noise falls from 4 to 2; gate 1 → 0 over a fine-band shape/noise ratio of
+  // 0.2–0.35; level: noise / 0.25 mean edge lengths, at most 1.
   const BandShrinkParams p;
-  EXPECT_EQ(alphaFromSpectrum(2.8, 0.0, 0.3, p), 1.0);           // armadillo-like: shallow spectrum
-  EXPECT_DOUBLE_EQ(alphaFromSpectrum(6.5, 0.1, 0.3, p), 2.0);    // lion-head-like
-  EXPECT_DOUBLE_EQ(alphaFromSpectrum(6.5, 0.275, 0.3, p), 1.5);  // half gated
-  EXPECT_DOUBLE_EQ(alphaFromSpectrum(6.5, 0.1, 0.125, p), 1.5);  // half the noise level
-  EXPECT_EQ(alphaFromSpectrum(6.5, 0.4, 0.3, p), 1.0);           // fine band full of shape
-  EXPECT_EQ(alphaFromSpectrum(1e6, 0.0, 0.3, p), 2.5);           // no fine shape at all: capped
-  EXPECT_EQ(alphaFromSpectrum(1e6, 1e6, 0.3, p), 1.0);           // no NaN from 0 · large
-  EXPECT_EQ(alphaFromSpectrum(INFINITY, 0.0, 0.0, p), 1.0);
+  auto alpha = [&](double slope, double fine_snr, double noise_edges, double coarse_snr = 10) {
+    return alphaFromSpectrum(slope, coarse_snr, fine_snr, noise_edges, p);
+  };
+  EXPECT_EQ(alpha(2.8, 0.0, 0.3), 1.0);           // armadillo-like: shallow spectrum
+  EXPECT_DOUBLE_EQ(alpha(6.5, 0.1, 0.3), 2.0);    // lion-head-like
+  EXPECT_DOUBLE_EQ(alpha(6.5, 0.275, 0.3), 1.5);  // half gated
+  EXPECT_DOUBLE_EQ(alpha(6.5, 0.1, 0.125), 1.5);  // half the noise level
+  EXPECT_EQ(alpha(6.5, 0.4, 0.3), 1.0);           // fine band full of shape
+  EXPECT_EQ(alpha(1e6, 0.0, 0.3), 2.5);           // no fine shape at all: capped
+  EXPECT_EQ(alpha(3.1, 0.0, 0.3, 0.8), 2.5);      // sphere-like: no shape in the coarse band either
+  EXPECT_DOUBLE_EQ(alpha(3.1, 0.0, 0.3, 3.0), 1.75); // halfway
+  EXPECT_EQ(alpha(3.1, 0.0, 0.3, 4.0), 1.0);
+  EXPECT_EQ(alpha(1e6, 1e6, 0.3), 1.0);           // no NaN from 0 · large
+  EXPECT_EQ(alpha(INFINITY, 0.0, 0.0), 1.0);
   for (double slope = 0; slope < 12; slope += 0.5)
-    EXPECT_LE(alphaFromSpectrum(slope, 0.1, 0.2, p), alphaFromSpectrum(slope + 0.5, 0.1, 0.2, p));
+    EXPECT_LE(alpha(slope, 0.1, 0.2), alpha(slope + 0.5, 0.1, 0.2));
 }
 
 TEST(BandShrink, SpectrumSlopeSeparatesFineDetailFromSmoothShape) {
