@@ -52,15 +52,14 @@ struct BandShrinkParams {
   // faces: θ 16.5 against Taubin's best 14.7); 1.0001 for −0.51, ×1.013 over 128 pairs.
   double lambda = 0.5, mu = -0.51;
   int normal_pairs = 8;           // the band energies are taken along the normals of this snapshot
-  // α = 1 + rise · gate · level, within [1, max_alpha]; rise: the larger of
+  // α = 1 + rise · gate · level, within [1, max_alpha]. rise: the larger of
   // alpha_per_slope · (slope − slope_at_alpha_one) and (max_alpha − 1) · smooth, where slope is
-  // the shape energy of band `slope_coarse_band` over band `slope_fine_band` and smooth goes from 1
-  // to 0 as that coarse band's shape/noise ratio rises from coarse_snr_smooth to
-  // coarse_snr_detailed; gate: 1 at a
-  // fine-band shape/noise ratio up to gate_snr_full, 0 from gate_snr_none (linear in between);
-  // level: the noise estimate over noise_for_full_alpha mean edge lengths, at most 1. θ 1.80 %
-  // above the best α of a grid on average, the earlier threshold on the fine band alone 4.41 %,
-  // the best fixed α (1.5) 4.39 % (bench/ALPHA_CHOICE.md).
+  // the shape energy of band `slope_coarse_band` over band `slope_fine_band` and smooth goes from
+  // 1 to 0 as that coarse band's shape/noise ratio rises from coarse_snr_smooth to
+  // coarse_snr_detailed. gate: 1 at a fine-band shape/noise ratio up to gate_snr_full, 0 from
+  // gate_snr_none (linear in between). level: the noise estimate over noise_for_full_alpha mean
+  // edge lengths, at most 1. θ 1.80 % above the best α of a grid on average, the earlier threshold
+  // on the fine band alone 4.41 %, the best fixed α (1.5) 4.39 % (bench/ALPHA_CHOICE.md).
   int fine_band = 3;              // band whose shape/noise ratio gates α (4–8 pairs)
   int slope_fine_band = 4, slope_coarse_band = 7; // 8–16 and 64–128 pairs
   double slope_at_alpha_one = 4.0, alpha_per_slope = 0.4, max_alpha = 2.5;
@@ -293,15 +292,15 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   }
   fine_noise /= probes;
   report.fine_snr = fine_noise > 0 ? std::max(energy[fine] - fine_noise, 0.0) / fine_noise : 0.0;
-  auto shape_energy = [&](int b) {
-    b = std::clamp(b, 0, bands - 1);
-    return std::max(energy[b] - (b == fine ? fine_noise : noise_energy[b]), 0.0);
-  };
-  const double fine_shape = shape_energy(params.slope_fine_band),
-               coarse_shape = shape_energy(params.slope_coarse_band);
+  // The fine band's noise is the probes' mean; every other band has the whole-run probe's.
+  auto band_noise = [&](int b) { return b == fine ? fine_noise : noise_energy[b]; };
+  const int slope_fine = std::clamp(params.slope_fine_band, 0, bands - 1),
+            slope_coarse = std::clamp(params.slope_coarse_band, 0, bands - 1);
+  const double fine_shape = std::max(energy[slope_fine] - band_noise(slope_fine), 0.0),
+               coarse_shape = std::max(energy[slope_coarse] - band_noise(slope_coarse), 0.0);
   report.shape_slope = fine_shape * 1e6 > coarse_shape ? coarse_shape / fine_shape : 1e6;
-  const int coarse = std::clamp(params.slope_coarse_band, 0, bands - 1);
-  report.coarse_snr = noise_energy[coarse] > 0 ? coarse_shape / noise_energy[coarse] : 1e6;
+  report.coarse_snr =
+      band_noise(slope_coarse) > 0 ? coarse_shape / band_noise(slope_coarse) : 1e6;
   report.noise_edges = mean_edge > 0 ? report.noise_sigma / mean_edge : 0.0;
   report.alpha = params.fixed_alpha > 0
                      ? params.fixed_alpha

@@ -222,8 +222,8 @@ TEST(BandShrink, NoisySphereComesCloseToTaubinAtItsBestStepCount) {
   // spectrum), so α takes its largest value.
   EXPECT_GT(r.shape_slope, 8.0); // measured 11.6
   EXPECT_EQ(r.alpha, BandShrinkParams().max_alpha);
-  // Measured 1.58° vs 2.04° (with MeshLab's μ = −0.53 and 256 pairs, 2.57°: Taubin's pass-band
-  // gain compounds over many pairs, see BandShrinkParams::mu).
+  // Measured 1.62° vs 2.04° (with MeshLab's μ = −0.53 and 256 pairs, 2.57° at the time: Taubin's
+  // pass-band gain compounds over many pairs, see BandShrinkParams::mu).
   const double best_taubin = bestTaubinTheta(noisy, clean);
   const double theta = deviation(shrunk, clean).theta_deg;
   RecordProperty("theta_band_shrink", std::to_string(theta));
