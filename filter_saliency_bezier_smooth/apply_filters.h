@@ -6,11 +6,11 @@
 #include "filter_parameters.h"
 
 #include <vcg/complex/algorithms/update/bounding.h>
+#include <vcg/complex/algorithms/update/color.h>
 #include <vcg/complex/algorithms/update/normal.h>
 #include <vcg/complex/complex.h>
-#include <vcg_ext/feature_smooth.h>
-#include <vcg_ext/auto_smooth.h>
-#include <vcg_ext/smooth.h>
+#include <vcg_ext/display_scale.h>
+#include <vcg_ext/methods.h>
 
 #include <chrono>
 #include <cmath>
@@ -24,6 +24,9 @@ struct FilterOutcome {
   bool ok = false;
   std::string error;
   std::vector<std::string> log;
+  std::string method;   // the smoothing method that ran (the automatic one names its choice)
+  std::string summary;  // the log's first line: what was measured and what was done
+  bool colored = false; // the vertex colours were written (the GUI must show them)
 };
 
 namespace detail {
@@ -68,14 +71,31 @@ void storeAttribute(MeshType &m, const vcg_ext::MeshArrays &arrays, const std::s
     handle[arrays.mesh_slot[c]] = storable<Scalar>(values[c], clamped);
 }
 
+// Stores `values` (already on their display scale) as vertex quality and, with `color`, colours
+// the vertices by it over its full range as MeshLab's Colorize by vertex Quality does at its
+// defaults. Returns whether colours were written.
 template <class MeshType>
-void storeQuality(MeshType &m, const vcg_ext::MeshArrays &arrays,
-                  const std::vector<double> &values) {
-  if (!vcg::tri::HasPerVertexQuality(m)) return;
+bool storeQuality(MeshType &m, const vcg_ext::MeshArrays &arrays,
+                  const std::vector<double> &values, bool color) {
+  if (!vcg::tri::HasPerVertexQuality(m)) return false;
   using Scalar = typename MeshType::VertexType::QualityType;
   long clamped = 0; // counted with the attributes
   for (size_t c = 0; c < values.size(); ++c)
     m.vert[arrays.mesh_slot[c]].Q() = storable<Scalar>(values[c], clamped);
+  if (!color || !vcg::tri::HasPerVertexColor(m) || values.empty()) return false;
+  const auto range = std::minmax_element(values.begin(), values.end());
+  vcg::tri::UpdateColor<MeshType>::PerVertexQualityRamp(m, Scalar(*range.first),
+                                                         Scalar(*range.second));
+  return true;
+}
+
+// A quantity on its display scale: saliency up to its 99th percentile, curvatures on a signed
+// log scale, the rest (alpha, displacement) as they are.
+inline std::vector<double> displayed(const std::string &name, const std::vector<double> &values) {
+  if (name == "Saliency") return vcg_ext::percentileClipped(values);
+  if (name == "Mean curvature" || name == "Gaussian curvature" || name == "K1" || name == "K2")
+    return vcg_ext::signedLogScale(values);
+  return values;
 }
 
 // The rejection reasons shared by both filters; empty when the mesh can be processed.
@@ -110,21 +130,27 @@ FilterOutcome applyComputeSaliency(MeshType &m, const ParameterValues &p, vcg::C
   if (out.error.empty()) out.error = detail::checkRange(p, "saliency_scale", 1e-6, 50);
   if (out.error.empty()) out.error = detail::checkRange(p, "quality", 0, 4);
   if (!out.error.empty()) return out;
+  const bool color = p.count("color") && p.at("color") != 0;
 
   const auto start = std::chrono::steady_clock::now();
   const vcg_ext::Rings rings = vcg_ext::computeRings(int(arrays.points.size()), arrays.faces);
   const vcg_ext::EdgeStatistics stats = vcg_ext::edgeStatistics(arrays.points, rings);
   if (cb && !cb(10, "Curvature")) return out.error = "Cancelled.", out;
   vcg_ext::SurfaceAnalysis analysis;
+  const double scale = p.at("saliency_scale") / 100.0 * stats.bbox_diagonal;
   vcg_ext::computeCurvature(arrays.points, arrays.faces, rings, analysis.curvature);
   if (cb && !cb(40, "Saliency")) return out.error = "Cancelled.", out;
-  const double scale = p.at("saliency_scale") / 100.0 * stats.bbox_diagonal;
-  vcg_ext::computeSaliency(arrays.points, rings, analysis.curvature.k2, scale, analysis.saliency);
+  vcg_ext::computeMeshSaliency(arrays.points, rings, analysis.curvature, scale, analysis.saliency);
   if (cb && !cb(95, "Storing")) return out.error = "Cancelled.", out;
 
   const vcg_ext::CurvatureField &c = analysis.curvature;
   const std::vector<double> *quantities[] = {&analysis.saliency, &c.mean, &c.gauss, &c.k1, &c.k2};
-  detail::storeQuality(m, arrays, *quantities[int(p.at("quality"))]);
+  const int quality = int(p.at("quality"));
+  out.colored = detail::storeQuality(
+      m, arrays,
+      detail::displayed(qualityChoices(FilterId::ComputeSaliencyCurvature)[quality],
+                        *quantities[quality]),
+      color);
   long clamped = 0;
   detail::storeAttribute(m, arrays, "Saliency", analysis.saliency, clamped);
   detail::storeAttribute(m, arrays, "MeanCurvature", c.mean, clamped);
@@ -180,11 +206,15 @@ namespace detail {
 template <class MeshType>
 long storeSmoothingResult(MeshType &m, const vcg_ext::MeshArrays &arrays,
                           const std::vector<vcg_ext::Vec3> &result,
-                          const vcg_ext::VertexQuantities &q, int quality) {
+                          const vcg_ext::VertexQuantities &q, int quality, bool color,
+                          bool &colored) {
   vcg_ext::writePositions(m, arrays, result);
   const std::vector<double> *quantities[] = {&q.saliency, &q.mean, &q.gauss, &q.k1,
                                              &q.k2,       &q.alpha, &q.displacement};
-  storeQuality(m, arrays, *quantities[quality]);
+  colored = storeQuality(
+      m, arrays,
+      displayed(qualityChoices(FilterId::SaliencyBezierSmooth)[quality], *quantities[quality]),
+      color);
   long clamped = 0;
   storeAttribute(m, arrays, "Saliency", q.saliency, clamped);
   storeAttribute(m, arrays, "MeanCurvature", q.mean, clamped);
@@ -205,126 +235,35 @@ inline std::string clampedLog(long clamped) {
                 double(clamped));
 }
 
-// The lines the feature-preserving and organic drivers' reports share.
-template <class DriverReport>
-void appendDriverLog(const DriverReport &r, std::vector<std::string> &log) {
-  if (r.frozen_vertices > 0)
-    log.push_back(format("Skipped (left in place): %.0f non-manifold, isolated or on degenerate "
-                         "faces.",
-                         double(r.frozen_vertices)));
-  if (r.plane_fallbacks + r.rejected_moves > 0)
-    log.push_back(format("Patch fits that fell back to the face plane: %.0f; non-finite moves "
-                         "kept in place: %.0f.",
-                         double(r.plane_fallbacks), double(r.rejected_moves)));
-  if (r.closed && r.volume_before != 0)
-    log.push_back(format("Volume %g -> %g (ratio %.4f).", r.volume_before, r.volume_after,
-                         r.volume_after / r.volume_before));
-}
-
-inline std::vector<std::string> featureLog(const vcg_ext::FeatureSmoothReport &r, size_t vertices) {
-  std::vector<std::string> log;
-  log.push_back(format("Feature-preserving mode, %.0f passes: %.0f of %.0f vertices moved.",
-                       r.outer_iterations_done, double(r.vertices_moved), double(vertices)));
-  log.push_back(format("Noise estimate (dihedral spread) %.1f deg, roughness %.2f: %.0f Taubin "
-                       "pre-pass pairs, %.0f normal filter iterations per pass.",
-                       r.dihedral_spread_deg, r.roughness, r.prepass_pairs, r.normal_iterations));
-  appendDriverLog(r, log);
-  log.push_back(format("Time: topology and pre-pass %.3f s, normal filtering %.3f s, vertex "
-                       "updates %.3f s, result quantities %.3f s.",
-                       r.seconds_topology + r.seconds_prepass, r.seconds_normals,
-                       r.seconds_vertices, r.seconds_quantities));
-  return log;
-}
-
-inline std::vector<std::string> organicLog(const vcg_ext::OrganicSmoothReport &r, size_t vertices) {
-  std::vector<std::string> log;
-  log.push_back(format("Organic mode: %.0f of %.0f vertices moved.", double(r.vertices_moved),
-                       double(vertices)));
-  log.push_back(format("Noise estimate (dihedral spread) %.1f deg, roughness %.2f; noise along "
-                       "the normals %.3f mean edge lengths.",
-                       r.dihedral_spread_deg, r.roughness,
-                       r.mean_edge_length > 0 ? r.bands.noise_sigma / r.mean_edge_length : 0.0));
-  std::string gains = format("Shape spectrum slope %.2f, coarse-band shape/noise %.2f, fine-band "
-                             "shape/noise %.2f: alpha %.2f; band gains (fine to coarse):",
-                             r.bands.shape_slope, r.bands.coarse_snr, r.bands.fine_snr,
-                             r.bands.alpha);
-  for (double g : r.bands.gains) gains += format(" %.2f", g);
-  log.push_back(gains + ".");
-  if (r.roughness == 0)
-    log.push_back("The mesh measures as clean: left as it is.");
-  appendDriverLog(r, log);
-  log.push_back(format("Time: topology %.3f s, band shrinkage %.3f s, patch update %.3f s, result "
-                       "quantities %.3f s.",
-                       r.seconds_topology, r.seconds_bands, r.seconds_patches,
-                       r.seconds_quantities));
-  return log;
-}
-
-inline std::vector<std::string> autoLog(const vcg_ext::AutoSmoothReport &r, size_t vertices) {
-  std::vector<std::string> log;
-  if (r.decided)
-    log.push_back(format("Automatic mode: after guided filtering %.3f of the edges are flat and "
-                         "%.3f of the creases are still creases after plain Taubin smoothing: ",
-                         r.evidence.flat_share, r.evidence.confirmed_share) +
-                  (r.chose_feature ? "sharp features, feature-preserving mode."
-                                   : "no sharp features, organic mode."));
-  else
-    log.push_back("Automatic mode: the mesh measures as clean (see the noise estimate below): "
-                  "left as it is.");
-  const std::vector<std::string> rest =
-      r.chose_feature ? featureLog(r.feature, vertices) : organicLog(r.organic, vertices);
-  log.insert(log.end(), rest.begin(), rest.end());
-  if (r.chose_feature)
-    log.push_back(format("Time of the decision: shared topology %.3f s, Taubin copy and evidence "
-                         "%.3f s.",
-                         r.seconds_setup, r.seconds_reference));
-  else
-    log.push_back(format("Time of the decision: shared topology %.3f s, the feature mode's "
-                         "pre-pass and first normal filter iterations %.3f s, Taubin copy and "
-                         "evidence %.3f s.",
-                         r.seconds_setup, r.feature.seconds_prepass + r.feature.seconds_normals,
-                         r.seconds_reference));
-  return log;
-}
-
 } // namespace detail
 
-inline vcg_ext::SmoothParams smoothParamsOf(const ParameterValues &p) {
-  vcg_ext::SmoothParams s;
+// The filter's parameters as the methods read them (indexes by the checked enums).
+inline vcg_ext::MethodParams methodParamsOf(const ParameterValues &p) {
+  vcg_ext::MethodParams s;
   s.iterations = int(p.at("iterations"));
-  const vcg_ext::PlacementMode placements[] = {vcg_ext::PlacementMode::RingBarycentre,
-                                               vcg_ext::PlacementMode::PatchPoint,
-                                               vcg_ext::PlacementMode::Paper};
-  // The feature-preserving and organic choices run their own drivers (feature_smooth.h,
-  // organic_smooth.h), not a placement.
-  s.placement = placements[std::min(int(p.at("placement")), 2)];
   s.alpha_override = p.at("alpha_override") != 0;
   s.alpha = p.at("alpha");
-  s.uniform_variant = p.at("uniform_curvature") == 0 ? vcg_ext::UniformCurvatureVariant::Paper
-                                                     : vcg_ext::UniformCurvatureVariant::Neighbour;
   const vcg_ext::BoundaryMode boundaries[] = {
       vcg_ext::BoundaryMode::Paper, vcg_ext::BoundaryMode::Fixed,
       vcg_ext::BoundaryMode::AlongBoundary, vcg_ext::BoundaryMode::NoInward};
   s.boundary = boundaries[int(p.at("boundary"))];
+  s.preserve_volume = p.at("preserve_volume") != 0;
+  s.selected_only = p.at("selected_only") != 0;
+  s.saliency_scale = p.at("saliency_scale") / 100.0;
   s.folds = p.at("fold_handling") == 0 ? vcg_ext::FoldHandling::Ignore
                                        : vcg_ext::FoldHandling::Paper;
+  s.uniform_variant = p.at("uniform_curvature") == 0 ? vcg_ext::UniformCurvatureVariant::Paper
+                                                     : vcg_ext::UniformCurvatureVariant::Neighbour;
   s.newton_iterations = int(p.at("newton_iterations"));
   s.newton_step_limit = p.at("newton_step_limit");
-  s.saliency_scale = p.at("saliency_scale") / 100.0;
-  s.selected_only = p.at("selected_only") != 0;
-  s.preserve_volume = p.at("preserve_volume") != 0;
   return s;
 }
 
-// "Saliency Bezier Smooth": the smoothing driver; the mesh changes only when the run completes.
-template <class MeshType>
-FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
-                                        vcg::CallBackPos *cb) {
-  FilterOutcome out;
-  const vcg_ext::MeshArrays arrays = vcg_ext::extractArrays(m);
-  out.error = detail::rejectMesh(m, arrays);
-  for (const auto &check : {detail::checkRange(p, "iterations", 0, 1000),
-                            detail::checkRange(p, "placement", 0, 5),
+// Why the smoothing parameters cannot be used (empty: they can).
+inline std::string checkSmoothingParameters(const ParameterValues &p) {
+  const int methods = int(vcg_ext::methodTable().size());
+  for (const auto &check : {detail::checkRange(p, "placement", 0, methods - 1),
+                            detail::checkRange(p, "iterations", 0, 1000),
                             detail::checkRange(p, "alpha", 0, 1),
                             detail::checkRange(p, "uniform_curvature", 0, 1),
                             detail::checkRange(p, "boundary", 0, 3),
@@ -333,9 +272,26 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
                             detail::checkRange(p, "newton_step_limit", 0, 1000),
                             detail::checkRange(p, "saliency_scale", 1e-6, 50),
                             detail::checkRange(p, "quality", 0, 6)})
-    if (out.error.empty()) out.error = check;
+    if (!check.empty()) return check;
+  // The measured methods take iterations as a strength in thirds: 30 is ten times the measured
+  // amount, already far past any use (the paper's methods count plain iterations up to 1000).
+  if (int(p.at("placement")) >= 3 && p.at("iterations") > 30)
+    return "Parameter 'iterations' = " + detail::format("%g", p.at("iterations")) +
+           " is the strength in thirds for this method (3 = as measured) and at most 30.";
+  return {};
+}
+
+// "Saliency Bezier Smooth": the method the table lists at `placement`; the mesh changes only when
+// the run completes.
+template <class MeshType>
+FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
+                                        vcg::CallBackPos *cb) {
+  FilterOutcome out;
+  const vcg_ext::MeshArrays arrays = vcg_ext::extractArrays(m);
+  out.error = detail::rejectMesh(m, arrays);
+  if (out.error.empty()) out.error = checkSmoothingParameters(p);
   if (!out.error.empty()) return out;
-  const vcg_ext::SmoothParams params = smoothParamsOf(p); // indexes by the checked enums
+  const vcg_ext::MethodParams params = methodParamsOf(p);
   if (params.selected_only) {
     bool any = false;
     for (auto s : arrays.selected) any = any || s;
@@ -345,72 +301,17 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
 
   std::vector<vcg_ext::Vec3> result;
   vcg_ext::VertexQuantities q;
-  // The issue-8 modes end alike: a cancelled run leaves the mesh as it was; a finished one is
-  // stored, with its log and a note of values clamped to the mesh's number type.
-  auto finish = [&](bool cancelled, const auto &log_of_run) {
-    if (cancelled) return out.error = "Cancelled: the mesh is unchanged.", out;
-    const long clamped = detail::storeSmoothingResult(m, arrays, result, q, int(p.at("quality")));
-    out.log = log_of_run();
-    if (clamped > 0) out.log.push_back(detail::clampedLog(clamped));
-    out.ok = true;
-    return out;
-  };
-  if (int(p.at("placement")) == 3) {
-    vcg_ext::FeatureSmoothParams feature;
-    feature.selected_only = params.selected_only;
-    feature.preserve_volume = params.preserve_volume;
-    feature.saliency_scale = params.saliency_scale;
-    const vcg_ext::FeatureSmoothReport r =
-        vcg_ext::featureSmoothMesh(arrays, feature, result, q, detail::progressOf(cb));
-    return finish(r.cancelled, [&] { return detail::featureLog(r, arrays.points.size()); });
-  }
-  if (int(p.at("placement")) == 5) {
-    vcg_ext::AutoSmoothParams automatic;
-    for (bool *flag : {&automatic.feature.selected_only, &automatic.organic.selected_only})
-      *flag = params.selected_only;
-    automatic.feature.preserve_volume = automatic.organic.preserve_volume = params.preserve_volume;
-    automatic.feature.saliency_scale = automatic.organic.saliency_scale = params.saliency_scale;
-    const vcg_ext::AutoSmoothReport r =
-        vcg_ext::autoSmoothMesh(arrays, automatic, result, q, detail::progressOf(cb));
-    return finish(r.cancelled, [&] { return detail::autoLog(r, arrays.points.size()); });
-  }
-  if (int(p.at("placement")) == 4) {
-    vcg_ext::OrganicSmoothParams organic;
-    organic.selected_only = params.selected_only;
-    organic.preserve_volume = params.preserve_volume;
-    organic.saliency_scale = params.saliency_scale;
-    const vcg_ext::OrganicSmoothReport r =
-        vcg_ext::organicSmoothMesh(arrays, organic, result, q, detail::progressOf(cb));
-    return finish(r.cancelled, [&] { return detail::organicLog(r, arrays.points.size()); });
-  }
-  const vcg_ext::SmoothReport r =
-      vcg_ext::smoothMesh(arrays, params, result, q, detail::progressOf(cb));
-  if (r.cancelled) return out.error = "Cancelled: the mesh is unchanged.", out;
-
-  const long clamped = detail::storeSmoothingResult(m, arrays, result, q, int(p.at("quality")));
-
-  out.log.push_back(detail::format("%.0f iterations: %.0f of %.0f vertices moved.",
-                                   r.iterations_done, double(r.vertices_moved),
-                                   double(arrays.points.size())));
-  if (r.frozen_vertices > 0)
-    out.log.push_back(detail::format("Skipped (left in place): %.0f non-manifold, %.0f isolated "
-                                     "(in no face), %.0f on degenerate faces.",
-                                     double(r.nonmanifold_vertices), double(r.isolated_vertices),
-                                     double(r.degenerate_vertices)));
-  out.log.push_back(detail::format("Fold fallbacks %.0f, fold skips %.0f, Newton failures %.0f.",
-                                   double(r.fold_fallbacks), double(r.fold_skips),
-                                   double(r.newton_failures)));
-  if (r.fit_failures + r.rejected_moves > 0)
-    out.log.push_back(detail::format("Kept in place (over all iterations): %.0f failed fits, "
-                                     "%.0f non-finite results.",
-                                     double(r.fit_failures), double(r.rejected_moves)));
-  if (r.closed && r.volume_before != 0)
-    out.log.push_back(detail::format("Volume %g -> %g (ratio %.4f).", r.volume_before,
-                                     r.volume_after, r.volume_after / r.volume_before));
-  out.log.push_back(detail::format("Time: topology %.3f s, curvature %.3f s, saliency %.3f s, "
-                                   "patch fit + placement %.3f s.",
-                                   r.seconds_topology, r.seconds_curvature, r.seconds_saliency,
-                                   r.seconds_fit));
+  const vcg_ext::MethodRow &method = vcg_ext::methodTable()[size_t(p.at("placement"))];
+  const vcg_ext::MethodRun run =
+      method.run(arrays, params, result, q, detail::progressOf(cb));
+  if (run.cancelled) return out.error = "Cancelled: the mesh is unchanged.", out;
+  const bool color = p.count("color") && p.at("color") != 0;
+  const long clamped = detail::storeSmoothingResult(m, arrays, result, q, int(p.at("quality")),
+                                                    color, out.colored);
+  out.method = run.method;
+  out.summary = run.summary;
+  out.log.push_back(run.summary);
+  out.log.insert(out.log.end(), run.details.begin(), run.details.end());
   if (clamped > 0) out.log.push_back(detail::clampedLog(clamped));
   out.ok = true;
   return out;

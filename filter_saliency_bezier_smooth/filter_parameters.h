@@ -3,6 +3,12 @@
 // ParameterValues map, so both generations show the same dialog and accept the same scripts.
 #pragma once
 
+#include <vcg_ext/methods.h>
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <string>
 #include <vector>
@@ -46,110 +52,157 @@ inline std::string pythonFilterName(FilterId id) {
 
 inline std::string filterDescription(FilterId id) {
   if (id == FilterId::ComputeSaliencyCurvature)
-    return "Computes per-vertex principal curvatures with the discrete operators of "
-           "Meyer, Desbrun, Schr&ouml;der, Barr, \"Discrete Differential-Geometry Operators for "
-           "Triangulated 2-Manifolds\" (2003) and mesh saliency with Lee, Varshney, Jacobs, "
-           "\"Mesh Saliency\" (SIGGRAPH 2005) on the minimum principal curvature, as used by "
-           "\"A new feature-preserving mesh-smoothing algorithm\" (The Visual Computer, 2009)."
-           "<br>The chosen quantity goes to vertex quality (saliency is rescaled to [0,1]); all of "
-           "them are stored as per-vertex attributes <b>Saliency</b>, <b>MeanCurvature</b>, "
-           "<b>GaussianCurvature</b>, <b>K1</b>, <b>K2</b>, and the principal directions in the "
-           "per-vertex curvature directions. Boundary vertices take the mean of their interior "
-           "neighbours' curvatures. The mesh's positions are not changed.";
-  return "Feature-preserving smoothing after \"A new feature-preserving mesh-smoothing "
-         "algorithm\" (The Visual Computer, 2009) and beyond it. The paper's method (placements "
-         "Ring barycentre, Patch point, Paper): per vertex, principal curvatures (Meyer et al. "
-         "2003) and mesh saliency (Lee et al. 2005), a weighted bi-quadratic B&eacute;zier patch "
-         "least-squares fitted to the vertex's 2-ring, and a new position on that patch."
-         "<br><b>Placement</b>: <i>Automatic</i> (default) measures whether the noisy mesh has "
-         "sharp features (after a few iterations of guided normal filtering: how much of it is "
-         "exactly flat, and whether its creases survive plain Taubin smoothing) and runs the "
-         "<i>Feature-preserving</i> mode on CAD-like meshes, the <i>Organic scan</i> mode on "
-         "the others; the log says which and why. A clean mesh is left as it is. "
-         "<i>Feature-preserving (face patches)</i> keeps sharp edges: a short Taubin pre-pass "
-         "(scaled by the measured noise), guided normal filtering (Zhang et al. 2015) and each "
-         "vertex moved onto bi-quadratic patches of its faces (Sun et al. 2007's update). "
-         "<i>Organic scan (band shrinkage)</i> is for organic shapes with noise in all directions "
-         "(body scans, photogrammetry): the differences of Taubin results at 0, 1, 2, 4 ... 128 "
-         "steps are frequency bands, each kept in proportion to how much of it is shape rather "
-         "than noise (the noise level is measured from the mesh), then one face-patch update. "
-         "<i>Ring barycentre</i> moves the vertex to the patch point above its 1-ring "
-         "barycentre (the paper's patch, a light Taubin-class smoothing); <i>Patch point</i> "
-         "projects the vertex onto its patch; <i>Paper (Newton)</i> is the paper's method as "
-         "printed: Newton on (u,v) toward the saliency-weighted uniform principal curvature. "
-         "Measured, the paper's method distorts meshes (its curvature target usually does not "
-         "exist on the patch); the step limit keeps it local."
-         "<br>All vertices of an iteration move at once; non-manifold and isolated vertices and "
-         "those of degenerate faces are not moved. Per-vertex attributes <b>Saliency</b>, "
-         "<b>K1</b>, <b>K2</b>, <b>MeanCurvature</b>, <b>GaussianCurvature</b>, <b>Alpha</b>, "
-         "<b>Displacement</b> describe the result; one of them goes to vertex quality.";
+    return "Computes per-vertex principal curvatures (Meyer et al. 2003) and mesh saliency (Lee, "
+           "Varshney, Jacobs 2005) for inspection. All are stored as attributes <b>Saliency</b>, "
+           "<b>MeanCurvature</b>, <b>GaussianCurvature</b>, <b>K1</b>, <b>K2</b>; the chosen "
+           "one also goes to vertex quality on a display scale (saliency up to its 99th "
+           "percentile, curvatures on a signed log scale) and, if asked, to the vertex colours. "
+           "Positions are not changed.";
+  return "Removes noise while keeping sharp edges and volume. <i>Automatic</i> (default) "
+         "measures the noise and whether the mesh has sharp features, then runs the "
+         "<i>Feature-preserving</i> or the <i>Organic scan</i> method; the paper's method (\"A "
+         "new feature-preserving mesh-smoothing algorithm\", The Visual Computer 2009) is there "
+         "by name. <i>Iterations</i> sets the strength: 3 = as measured, 6 = twice. The log "
+         "says what was measured and done; <b>Saliency</b>, curvatures and <b>Displacement</b> "
+         "are stored as attributes, one in vertex quality.";
+}
+
+// The Method choice: the table's labels in its order (the script value is the row's index).
+inline std::vector<std::string> methodChoices() {
+  std::vector<std::string> labels;
+  for (const vcg_ext::MethodRow &row : vcg_ext::methodTable()) labels.push_back(row.label);
+  return labels;
 }
 
 inline const std::vector<ParamSpec> &parameterSpecs(FilterId id) {
   static const ParamSpec saliency_scale{
       ParamKind::Float, "saliency_scale", 0.3, "Saliency scale (% of bbox diagonal)",
-      "The paper's epsilon: saliency compares Gaussian-weighted mean curvature at the scales "
-      "2..6 epsilon and twice those. In percent of the bounding-box diagonal."};
+      "The paper's epsilon: saliency compares Gaussian-weighted mean curvature at 2..6 epsilon "
+      "and twice those. In percent of the bounding-box diagonal."};
+  // New parameters go first: meshlabserver 2020.09 fills in one missing parameter of an older
+  // script only when it is the first of the list (and aborts otherwise).
   static const std::vector<ParamSpec> analysis = {
+      {ParamKind::Bool, "color", 1, "Colour the mesh",
+       "Also colour the vertices by the quantity in vertex quality (red: low, blue: high), as "
+       "Colorize by vertex Quality does."},
       saliency_scale,
       {ParamKind::Enum, "quality", 0, "Store in vertex quality",
-       "Which per-vertex quantity goes to vertex quality (all are stored as attributes).",
+       "Which quantity goes to vertex quality (all are stored as attributes).",
        qualityChoices(FilterId::ComputeSaliencyCurvature)},
   };
   static const std::vector<ParamSpec> smoothing = {
-      {ParamKind::Int, "iterations", 3, "Iterations",
-       "Number of smoothing iterations (Ring barycentre, Patch point and Paper placements; the "
-       "other modes measure how much smoothing the mesh needs)."},
-      {ParamKind::Enum, "placement", 5, "Placement",
-       "Automatic (default): the feature-preserving mode on meshes with sharp features, the "
-       "organic mode on the others, decided from the mesh. Feature-preserving: guided normal "
-       "filtering and per-face patches (keeps sharp edges: CAD parts). Organic scan: Taubin's "
-       "frequency bands, each kept in proportion to its measured shape-to-noise energy (organic "
-       "shapes with noise in all directions). These three use only 'Affect only selected "
-       "vertices', 'Preserve volume' and 'Store in vertex quality'. Ring barycentre, Patch point "
-       "and Paper (Newton): where each vertex goes on the paper's patch fitted to its 2-ring (the "
-       "patch point at its 1-ring barycentre's parameter, its own patch point, or the paper's "
-       "Newton solve for the uniform principal curvature).",
-       {"Ring barycentre", "Patch point", "Paper (Newton)", "Feature-preserving (face patches)",
-        "Organic scan (band shrinkage)", "Automatic (feature-preserving or organic)"}},
+      {ParamKind::Bool, "color", 0, "Colour the mesh",
+       "Also colour the vertices by the quantity in vertex quality (red: low, blue: high), as "
+       "Colorize by vertex Quality does."},
+      {ParamKind::Enum, "placement", vcg_ext::kDefaultMethod, "Method",
+       "Automatic: Feature-preserving on meshes with sharp features, Organic scan on the others. "
+       "Feature-preserving: guided normal filtering and face patches (CAD parts, machined or "
+       "architectural scans). Organic scan: frequency bands kept by their measured "
+       "shape-to-noise energy (bodies, statues, terrain). The paper's: Ring barycentre (a light "
+       "clean-up), Patch point, Paper (Newton, as printed; distorts meshes).",
+       methodChoices()},
+      {ParamKind::Int, "iterations", 3, "Iterations (strength)",
+       "Automatic, Feature-preserving, Organic scan: how much of the measured noise to remove, "
+       "in thirds: 3 = as measured, 6 = twice, 1 = a third, 0 = none; above 3 a mesh measured "
+       "as clean is smoothed too (at most 30). The paper's methods: the number of iterations."},
       {ParamKind::Bool, "alpha_override", 1, "Override alpha",
-       "Use the fixed alpha below everywhere instead of the paper's Saliency_min/Saliency_max "
-       "over the neighbourhood (measured: the paper's rule degenerates near zero saliency)."},
+       "On: every patch fit uses Alpha below. Off: the paper's rule, alpha = Saliency_min / "
+       "Saliency_max of the fit's vertices. Every method: the 2-ring patches of the paper's "
+       "methods, the face patches of the others."},
       {ParamKind::Float, "alpha", 1.0, "Alpha",
-       "Weight of the data term against the parallelogram term of the patch fit, in [0,1]; "
-       "1 is the plain least-squares fit."},
-      {ParamKind::Enum, "uniform_curvature", 1, "Uniform curvature",
-       "Paper (Newton) placement only: the paper's formula (the vertex's own curvatures in the "
-       "neighbours' directions) or Euler's formula with the neighbours' curvatures.",
-       {"Paper", "Neighbour"}},
+       "The patch fits' weight of the data against their smoothness (the paper's alpha, 0..1): "
+       "1 follows the data; lower values fit flatter patches and smooth more. Every method."},
       {ParamKind::Enum, "boundary", 3, "Boundary vertices",
-       "Treat boundary vertices like the others (paper: the boundary shrinks), keep them fixed, "
-       "let them move only along the boundary, or along the boundary and the surface normal but "
-       "never inward (smooths the boundary without pulling it in). Boundary corners (turning more "
-       "than 45 degrees) stay in place except in the paper mode.",
+       "How vertices on open boundaries move, in every method: like the others (the boundary "
+       "shrinks), fixed, only along the boundary, or along the boundary and the normal but never "
+       "inward (default). Boundary corners stay.",
        {"Paper", "Fixed", "Along boundary", "Along boundary and normal"}},
       {ParamKind::Bool, "preserve_volume", 1, "Preserve volume",
-       "Closed meshes: after each iteration (feature-preserving mode: once at the end), offset "
-       "the moved vertices along their normals so that the enclosed volume stays that of the "
-       "input."},
-      {ParamKind::Enum, "fold_handling", 0, "Folded neighbourhoods",
-       "Fit anyway (least squares needs no one-to-one projection), or the paper's fallbacks: "
-       "refit with the vertex's own normal, then with its 1-ring, else keep the vertex.",
-       {"Fit anyway", "Paper fallbacks"}},
-      {ParamKind::Int, "newton_iterations", 2, "Newton iterations",
-       "Paper (Newton) placement only: Newton steps on (u,v) (the paper uses 2)."},
-      {ParamKind::Float, "newton_step_limit", 1.0, "Newton step limit (edge lengths)",
-       "Paper (Newton) only: a Newton step moving the vertex further than this many mean "
-       "edge lengths is halved; 0: no limit (as printed)."},
-      saliency_scale,
+       "Closed meshes keep the volume they had: the moved vertices are offset along their "
+       "normals. Every method."},
       {ParamKind::Bool, "selected_only", 0, "Affect only selected vertices",
-       "Only selected vertices move; the others still serve as neighbours."},
+       "Only selected vertices move; the others still serve as neighbours. Every method."},
       {ParamKind::Enum, "quality", 0, "Store in vertex quality",
-       "Which per-vertex quantity of the result goes to vertex quality (all are stored as "
-       "attributes).",
+       "Which quantity of the result goes to vertex quality (all are stored as attributes).",
        qualityChoices(FilterId::SaliencyBezierSmooth)},
+      saliency_scale,
+      {ParamKind::Enum, "fold_handling", 0, "Paper: folded neighbourhoods",
+       "The paper's methods only: fit anyway (least squares needs no one-to-one projection), or "
+       "the paper's fallbacks (refit with the vertex's own normal, then its 1-ring, else keep it).",
+       {"Fit anyway", "Paper fallbacks"}},
+      {ParamKind::Enum, "uniform_curvature", 1, "Newton: uniform curvature",
+       "Paper (Newton) only: the paper's formula (the vertex's own curvatures in the neighbours' "
+       "directions) or Euler's formula with the neighbours' curvatures.",
+       {"Paper", "Neighbour"}},
+      {ParamKind::Int, "newton_iterations", 2, "Newton: iterations",
+       "Paper (Newton) only: Newton steps on (u,v) (the paper uses 2)."},
+      {ParamKind::Float, "newton_step_limit", 1.0, "Newton: step limit (edge lengths)",
+       "Paper (Newton) only: a Newton step moving the vertex further than this many mean edge "
+       "lengths is halved; 0: no limit (as printed)."},
   };
   return id == FilterId::ComputeSaliencyCurvature ? analysis : smoothing;
 }
+
+namespace detail {
+inline std::string lowered(std::string text) {
+  for (char &c : text) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
+} // namespace detail
+
+// Reads a parameter's value as scripts, tools and command lines write it: numbers; booleans as
+// true/false, yes/no, on/off or 1/0; enum choices by index, by label or (Method) by the method's
+// short key, case-insensitive. Returns an error message, empty when `value` was set.
+inline std::string parseParameter(const ParamSpec &s, const std::string &text, double &value) {
+  const std::string word = detail::lowered(text);
+  if (s.kind == ParamKind::Bool) {
+    if (word == "true" || word == "yes" || word == "on" || word == "1") return value = 1, "";
+    if (word == "false" || word == "no" || word == "off" || word == "0") return value = 0, "";
+    return "'" + s.name + "' is on or off (true/false, yes/no, on/off, 1/0), not '" + text + "'";
+  }
+  if (s.kind == ParamKind::Enum) {
+    for (size_t c = 0; c < s.choices.size(); ++c)
+      if (word == detail::lowered(s.choices[c]) || word == std::to_string(c) ||
+          (s.name == "placement" && word == vcg_ext::methodTable()[c].key))
+        return value = double(c), "";
+    std::string known;
+    for (size_t c = 0; c < s.choices.size(); ++c)
+      known += (c ? ", " : "") + std::to_string(c) + " = '" + s.choices[c] + "'" +
+               (s.name == "placement" ? std::string(" (") + vcg_ext::methodTable()[c].key + ")"
+                                      : std::string());
+    return "'" + s.name + "' is one of " + known + "; not '" + text + "'";
+  }
+  char *end = nullptr;
+  const double number = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(number) ||
+      (s.kind == ParamKind::Int && number != std::floor(number)))
+    return "'" + s.name + "' takes " + (s.kind == ParamKind::Int ? "a whole number" : "a number") +
+           ", not '" + text + "'";
+  return value = number, "";
+}
+
+// One line per parameter: its name, kind, default and choices, for the tools' usage texts.
+inline std::string parameterUsage(FilterId id) {
+  std::string out;
+  for (const ParamSpec &s : parameterSpecs(id)) {
+    static const char *kinds[] = {"whole number", "number", "on/off", "choice"};
+    char value[32];
+    std::snprintf(value, sizeof value, "%g", s.default_value);
+    std::string line = "  " + s.name + " (" + kinds[int(s.kind)] + ", default " +
+                       (s.kind == ParamKind::Bool ? std::string(s.default_value ? "on" : "off")
+                        : s.kind == ParamKind::Enum ? s.choices[size_t(s.default_value)]
+                                                   : std::string(value)) +
+                       "): " + s.label;
+    if (s.kind == ParamKind::Enum) {
+      line += " [";
+      for (size_t c = 0; c < s.choices.size(); ++c)
+        line += (c ? " | " : "") + std::to_string(c) + " " + s.choices[c];
+      line += "]";
+    }
+    out += line + "\n";
+  }
+  return out;
+}
+
 
 } // namespace saliency_bezier

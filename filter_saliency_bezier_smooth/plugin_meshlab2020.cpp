@@ -28,14 +28,18 @@ QString SaliencyBezierSmoothPlugin::filterInfo(FilterIDType id) const {
   return q(filterDescription(filterOf(id)));
 }
 
+// No VertexColoring class: the GUI would show the vertex colours after every run, white where the
+// filter did not paint them; applyFilter turns them on when it paints (the "color" parameter).
 MeshFilterInterface::FilterClass SaliencyBezierSmoothPlugin::getClass(QAction *a) {
-  return ID(a) == FP_SALIENCY_BEZIER_SMOOTH ? Smoothing
-                                            : FilterClass(Quality + VertexColoring);
+  return ID(a) == FP_SALIENCY_BEZIER_SMOOTH ? Smoothing : Quality;
 }
 
+// Vertex quality is written by both filters: asking for it makes MeshLab mark it as present, so
+// that "Colorize by vertex Quality" and the other quality filters accept the result at once.
 int SaliencyBezierSmoothPlugin::getRequirements(QAction *a) {
-  return ID(a) == FP_COMPUTE_SALIENCY_CURVATURE ? int(MeshModel::MM_VERTCURVDIR)
-                                                : int(MeshModel::MM_NONE);
+  return ID(a) == FP_COMPUTE_SALIENCY_CURVATURE
+             ? int(MeshModel::MM_VERTCURVDIR | MeshModel::MM_VERTQUALITY)
+             : int(MeshModel::MM_VERTQUALITY);
 }
 
 int SaliencyBezierSmoothPlugin::getPreConditions(QAction *) const {
@@ -46,8 +50,9 @@ int SaliencyBezierSmoothPlugin::postCondition(QAction *a) const {
   const int written = MeshModel::MM_VERTQUALITY;
   return ID(a) == FP_SALIENCY_BEZIER_SMOOTH
              ? written | MeshModel::MM_VERTCOORD | MeshModel::MM_VERTNORMAL |
-                   MeshModel::MM_FACENORMAL
-             : written | MeshModel::MM_VERTCURV | MeshModel::MM_VERTCURVDIR;
+                   MeshModel::MM_FACENORMAL | MeshModel::MM_VERTCOLOR
+             : written | MeshModel::MM_VERTCURV | MeshModel::MM_VERTCURVDIR |
+                   MeshModel::MM_VERTCOLOR;
 }
 
 MeshFilterInterface::FILTER_ARITY SaliencyBezierSmoothPlugin::filterArity(QAction *) const {
@@ -96,6 +101,8 @@ bool SaliencyBezierSmoothPlugin::applyFilter(QAction *a, MeshDocument &md,
                                     ? applyComputeSaliency(mm->cm, values, cb)
                                     : applySaliencyBezierSmooth(mm->cm, values, cb);
   for (const std::string &line : outcome.log) Log(line);
+  if (outcome.ok) mm->updateDataMask(MeshModel::MM_VERTQUALITY);
+  if (outcome.colored) mm->updateDataMask(MeshModel::MM_VERTCOLOR);
   if (!outcome.ok) {
     errorMessage = q(outcome.error);
     Log(std::string("Error: ") + outcome.error);

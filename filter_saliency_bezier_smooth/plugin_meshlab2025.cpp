@@ -37,8 +37,9 @@ FilterPlugin::FilterClass SaliencyBezierSmoothPlugin::getClass(const QAction *a)
 }
 
 int SaliencyBezierSmoothPlugin::getRequirements(const QAction *a) {
-  return ID(a) == FP_COMPUTE_SALIENCY_CURVATURE ? int(MeshModel::MM_VERTCURVDIR)
-                                                : int(MeshModel::MM_NONE);
+  return ID(a) == FP_COMPUTE_SALIENCY_CURVATURE
+             ? int(MeshModel::MM_VERTCURVDIR | MeshModel::MM_VERTQUALITY)
+             : int(MeshModel::MM_VERTQUALITY);
 }
 
 int SaliencyBezierSmoothPlugin::getPreConditions(const QAction *) const {
@@ -80,7 +81,8 @@ RichParameterList SaliencyBezierSmoothPlugin::initParameterList(const QAction *a
 
 std::map<std::string, QVariant>
 SaliencyBezierSmoothPlugin::applyFilter(const QAction *a, const RichParameterList &list,
-                                        MeshDocument &md, unsigned int &, vcg::CallBackPos *cb) {
+                                        MeshDocument &md, unsigned int &postConditionMask,
+                                        vcg::CallBackPos *cb) {
   MeshModel *mm = md.mm();
   if (!mm) throw MLException("No current mesh.");
   const FilterId id = filterOf(ID(a));
@@ -99,6 +101,14 @@ SaliencyBezierSmoothPlugin::applyFilter(const QAction *a, const RichParameterLis
                                     : applySaliencyBezierSmooth(mm->cm, values, cb);
   for (const std::string &line : outcome.log) log(line);
   if (!outcome.ok) throw MLException(q(outcome.error));
+  mm->updateDataMask(MeshModel::MM_VERTQUALITY);
+  if (outcome.colored) {
+    mm->updateDataMask(MeshModel::MM_VERTCOLOR);
+    postConditionMask |= MeshModel::MM_VERTCOLOR;
+  }
+  // What PyMeshLab's apply_filter returns: which method ran and the log's summary line.
+  if (id == FilterId::SaliencyBezierSmooth)
+    return {{"method", QVariant(q(outcome.method))}, {"summary", QVariant(q(outcome.summary))}};
   return {};
 }
 

@@ -3,7 +3,7 @@
 //
 //   smooth_mesh [--filter smooth|saliency] <in> <out.ply> [name=value ...]
 //
-// Parameters as in the .mlx scripts (enums by index). Prints the filter's log, then one JSON line
+// Parameters as in the .mlx scripts (enums by index, label or method key; see write_mlx). Prints the filter's log, then one JSON line
 // with the wall time. Exit code 2 when the filter refuses the mesh (the reason on stderr).
 #include "tool_mesh.h"
 
@@ -33,12 +33,19 @@ int main(int argc, char **argv) {
     const std::string arg = argv[k];
     const size_t eq = arg.find('=');
     const std::string name = arg.substr(0, eq);
-    if (eq == std::string::npos || !values.count(name)) {
-      std::fprintf(stderr, "smooth_mesh: unknown parameter '%s'\n", name.c_str());
+    const ParamSpec *spec = nullptr;
+    for (const ParamSpec &s : parameterSpecs(id))
+      if (s.name == name) spec = &s;
+    if (eq == std::string::npos || !spec) {
+      std::fprintf(stderr, "smooth_mesh: '%s' is not name=value with a parameter of the filter; "
+                           "they are:\n%s", arg.c_str(), parameterUsage(id).c_str());
       return 1;
     }
-    const std::string text = arg.substr(eq + 1);
-    values[name] = text == "true" ? 1.0 : text == "false" ? 0.0 : std::stod(text);
+    const std::string error = parseParameter(*spec, arg.substr(eq + 1), values[name]);
+    if (!error.empty()) {
+      std::fprintf(stderr, "smooth_mesh: %s\n", error.c_str());
+      return 1;
+    }
   }
   tool_mesh::Mesh mesh;
   if (!tool_mesh::load(mesh, in, "smooth_mesh")) return 2;

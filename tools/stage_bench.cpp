@@ -12,7 +12,7 @@
 // how the before/after identity of each optimisation is checked.
 #include "tool_mesh.h"
 
-#include <vcg_ext/smooth.h>
+#include <vcg_ext/paper_smooth.h>
 
 #include <algorithm>
 #include <chrono>

@@ -1,7 +1,8 @@
 // Prints a meshlabserver 2020.09 script (.mlx) for one of our filters, every parameter listed
 // (meshlabserver asserts on a missing one) at its default unless overridden:
 //   write_mlx smooth|saliency [name=value ...]
-// examples/*.mlx are this tool's output with no overrides (a unit test keeps them in step).
+// Values as filter_parameters.h's parseParameter reads them (choices by label, index or method
+// key; on/off). examples/*.mlx are this tool's output (tests/e2e keep them in step).
 #include <filter_saliency_bezier_smooth/filter_parameters.h>
 
 #include <cstdio>
@@ -36,11 +37,22 @@ static std::string valueText(const ParamSpec &s, double value) {
   return o.str();
 }
 
+static int usage() {
+  std::cerr << "usage: write_mlx smooth|saliency [name=value ...]\n"
+               "Prints a meshlabserver script for the filter, every parameter at its default "
+               "unless given.\n\nsmooth ("
+            << filterName(FilterId::SaliencyBezierSmooth) << "):\n"
+            << parameterUsage(FilterId::SaliencyBezierSmooth) << "\nsaliency ("
+            << filterName(FilterId::ComputeSaliencyCurvature) << "):\n"
+            << parameterUsage(FilterId::ComputeSaliencyCurvature)
+            << "\nExample: write_mlx smooth placement=organic iterations=6 "
+               "preserve_volume=off\n";
+  return 2;
+}
+
 int main(int argc, char **argv) {
-  if (argc < 2 || (std::strcmp(argv[1], "smooth") && std::strcmp(argv[1], "saliency"))) {
-    std::cerr << "usage: write_mlx smooth|saliency [name=value ...]\n";
-    return 2;
-  }
+  if (argc < 2 || (std::strcmp(argv[1], "smooth") && std::strcmp(argv[1], "saliency")))
+    return usage();
   const FilterId id = std::strcmp(argv[1], "smooth") == 0 ? FilterId::SaliencyBezierSmooth
                                                           : FilterId::ComputeSaliencyCurvature;
   ParameterValues values;
@@ -49,12 +61,20 @@ int main(int argc, char **argv) {
     const std::string arg = argv[a];
     const size_t eq = arg.find('=');
     const std::string name = arg.substr(0, eq);
-    if (eq == std::string::npos || !values.count(name)) {
-      std::cerr << "unknown parameter '" << name << "'\n";
+    const ParamSpec *spec = nullptr;
+    for (const ParamSpec &s : parameterSpecs(id))
+      if (s.name == name) spec = &s;
+    if (eq == std::string::npos || !spec) {
+      std::cerr << "write_mlx: '" << arg << "' is not name=value with a parameter of '"
+                << filterName(id) << "'; they are:\n"
+                << parameterUsage(id);
       return 2;
     }
-    const std::string text = arg.substr(eq + 1);
-    values[name] = text == "true" ? 1.0 : text == "false" ? 0.0 : std::stod(text);
+    const std::string error = parseParameter(*spec, arg.substr(eq + 1), values[name]);
+    if (!error.empty()) {
+      std::cerr << "write_mlx: " << error << "\n";
+      return 2;
+    }
   }
   std::cout << "<!DOCTYPE FilterScript>\n<FilterScript>\n <filter name=\"" << filterName(id)
             << "\">\n";

@@ -9,6 +9,7 @@
 // modified, the result does not depend on vertex order or thread count, progress can cancel.
 #pragma once
 
+#include "feature_smooth.h"
 #include "mode_choice.h"
 #include "organic_smooth.h"
 
@@ -49,11 +50,13 @@ inline AutoSmoothReport autoSmoothAsGiven(const MeshArrays &mesh, const AutoSmoo
   AutoSmoothReport report;
   const bool selected_only = params.feature.selected_only;
   const auto start = std::chrono::steady_clock::now();
-  const detail::DriverSetup setup = detail::driverSetup(mesh, selected_only);
+  const detail::DriverSetup setup =
+      detail::driverSetup(mesh, selected_only, params.feature.boundary);
   report.seconds_setup =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   OrganicSmoothParams organic_params = params.organic;
   organic_params.selected_only = selected_only; // one set-up serves both drivers
+  organic_params.boundary = params.feature.boundary;
   // Both drivers report 0-99 %; the feature mode's first pass is the first part of either path.
   report.feature = featureSmoothAsGiven(
       mesh, params.feature, out_points, quantities, progress,
@@ -104,6 +107,51 @@ inline AutoSmoothReport autoSmoothMesh(const MeshArrays &mesh, const AutoSmoothP
                                   return detail::autoSmoothAsGiven(ordered, params, out, q,
                                                                    progress);
                                 });
+}
+
+// The automatic method as the filter runs it (methods.h): the log names the mode it chose and why.
+inline MethodRun automaticMethod(const MeshArrays &mesh, const MethodParams &p,
+                                 std::vector<Vec3> &out_points, VertexQuantities &quantities,
+                                 const ProgressFn &progress) {
+  AutoSmoothParams params;
+  detail::readCommonParams(p, params.feature);
+  detail::readCommonParams(p, params.organic);
+  const AutoSmoothReport r = autoSmoothMesh(mesh, params, out_points, quantities, progress);
+  MethodRun run;
+  run.cancelled = r.cancelled;
+  if (r.cancelled) return run;
+  using detail::formatLine;
+  if (!r.decided) {
+    run.method = "none (clean)";
+    run.summary = "Automatic: " + detail::measuredCleanPhrase(r.feature.dihedral_spread_deg,
+                                                             params.feature.clean_spread_deg) + ".";
+    run.details = detail::featureDetails(r.feature);
+    return run;
+  }
+  const std::string why = formatLine(
+      "%.3f of the edges flat and %.3f of the creases confirmed after guided filtering",
+      r.evidence.flat_share, r.evidence.confirmed_share);
+  if (r.chose_feature) {
+    run.method = "feature-preserving";
+    run.summary = "Automatic (sharp features: " + why + ") -> " +
+                  detail::featureSummary(r.feature, params.feature, quantities);
+    run.details = detail::featureDetails(r.feature);
+    run.details.push_back(formatLine("Time of the decision: shared topology %.3f s, Taubin copy "
+                                     "and evidence %.3f s.",
+                                     r.seconds_setup, r.seconds_reference));
+  } else {
+    run.method = "organic";
+    run.summary = "Automatic (no sharp features: " + why + ") -> " +
+                  detail::organicSummary(r.organic, params.organic, quantities);
+    run.details = detail::organicDetails(r.organic);
+    run.details.push_back(formatLine("Time of the decision: shared topology %.3f s, the feature "
+                                     "mode's pre-pass and first normal filter iterations %.3f s, "
+                                     "Taubin copy and evidence %.3f s.",
+                                     r.seconds_setup,
+                                     r.feature.seconds_prepass + r.feature.seconds_normals,
+                                     r.seconds_reference));
+  }
+  return run;
 }
 
 } // namespace vcg_ext

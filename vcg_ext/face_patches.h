@@ -59,6 +59,10 @@ struct FacePatchParams {
   double sigma = 0.2;        // range kernel width on |n_f − n_j| of the filtered normals
   double slope_weight = 1.0; // weight of a slope row relative to its centroid's position row
   double thin_plate = 1e-5;  // thin-plate energy over [−1,1]², relative to the total weight
+  // The paper's α: the data's weight against the smoothness term (α² against (1 − α)², as in its
+  // Bézier fit). Below 1 the thin-plate weight grows by ((1 − α)/α)², so the patches bend less
+  // and the vertex updates smooth more; 1 is the plain fit.
+  double alpha = 1.0;
 };
 
 namespace detail {
@@ -160,7 +164,12 @@ inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vect
     }
   }
   if (!(total > 0)) return false;
-  M += params.thin_plate * total * detail::thinPlateMatrix();
+  double smoothness = params.thin_plate;
+  if (params.alpha < 1) {
+    const double alpha = std::max(params.alpha, 1e-3); // α = 0 would ask for a plane: nearly that
+    smoothness += (1 - alpha) * (1 - alpha) / (alpha * alpha);
+  }
+  M += smoothness * total * detail::thinPlateMatrix();
   Eigen::LDLT<Eigen::Matrix<double, 9, 9>, Eigen::Lower> ldlt(M);
   const auto D = ldlt.vectorD();
   if (ldlt.info() != Eigen::Success || !(D.minCoeff() > 1e-12 * D.maxCoeff())) return false;
@@ -169,6 +178,45 @@ inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vect
   out.c = c;
   out.curved = true;
   return true;
+}
+
+// Fits every face's patch from `normals` (filtered or the faces' own); `face_alpha`, when not
+// empty, replaces params.alpha per face. Returns how many fits fell back to the face's plane.
+inline long fitFacePatches(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                           const FaceRings &face_rings, const FaceGeometry &geometry,
+                           const std::vector<Vec3> &normals, double mean_edge,
+                           const FacePatchParams &params, const std::vector<double> &face_alpha,
+                           std::vector<FacePatch> &patches) {
+  const int face_count = int(faces.size());
+  patches.resize(face_count);
+  double mean_area = 0;
+  for (double a : geometry.area) mean_area += a / face_count;
+  long fallbacks = 0;
+#pragma omp parallel for schedule(static) reduction(+ : fallbacks) if (face_count >= min_parallel_vertices)
+  for (int f = 0; f < face_count; ++f) {
+    FacePatchParams own = params;
+    if (!face_alpha.empty()) own.alpha = face_alpha[f];
+    fallbacks += !fitFacePatch(f, points, faces, face_rings, geometry, normals, mean_area,
+                               mean_edge, own, patches[f]);
+  }
+  return fallbacks;
+}
+
+// The paper's α rule moved to face patches: per face, the smallest over the largest saliency of
+// the vertices its fit reads (the corners of its ring's faces); 1 where nothing there is salient.
+inline std::vector<double> faceAlphaFromSaliency(const std::vector<Face> &faces,
+                                                 const FaceRings &face_rings,
+                                                 const std::vector<double> &saliency) {
+  const int face_count = int(faces.size());
+  std::vector<double> alpha(face_count, 1.0);
+#pragma omp parallel for schedule(static) if (face_count >= min_parallel_vertices)
+  for (int f = 0; f < face_count; ++f) {
+    double lo = INFINITY, hi = 0;
+    for (const int *g = face_rings.begin(f); g != face_rings.end(f); ++g)
+      for (int v : faces[*g]) lo = std::min(lo, saliency[v]), hi = std::max(hi, saliency[v]);
+    if (hi > 0 && std::isfinite(lo)) alpha[f] = lo / hi;
+  }
+  return alpha;
 }
 
 // Sun et al.'s vertex update with patches: the mean, over the vertex's faces, of the vertex moved

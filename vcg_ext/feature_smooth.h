@@ -2,7 +2,7 @@
 // vertices moved onto the planes and then the bi-quadratic patches of their faces
 // (normal_filter.h, face_patches.h; ALGORITHM.md "Toward real feature preservation").
 //
-// Same contract as smoothMesh (smooth.h): the input is never modified, the result goes to
+// Same contract as smoothMesh (paper_smooth.h): the input is never modified, the result goes to
 // `out_points`, a report says what happened, progress can cancel, every pass reads one position
 // array and writes another (Jacobi), so the result does not depend on vertex order or thread count.
 // Non-manifold, isolated and degenerate-face vertices never move; boundary vertices move along
@@ -18,9 +18,8 @@
 // alone cannot unfold them. The Taubin pre-pass runs in proportion to the measured noise.
 #pragma once
 
+#include "driver_setup.h"
 #include "face_patches.h"
-#include "smooth.h"
-#include "spatial_order.h"
 
 #include <Eigen/Eigenvalues>
 
@@ -55,11 +54,16 @@ struct FeatureSmoothParams {
   int relax_rings = 1;        // relax vertices within this many rings of a folded face; −1: all
   double fold_cos = 0.5;      // a face is folded when its normal is this far from its filtered one
   FacePatchParams patches;
+  // false: the patches' α per face from the saliency (faceAlphaFromSaliency), as the paper's rule
+  bool alpha_override = true;
   bool selected_only = false;
+  BoundaryMode boundary = BoundaryMode::NoInward;
+  // The user's strength: scales the pass counts the noise estimate asks for (strengthen()).
+  double strength = 1.0;
   // Closed meshes: one offset along the vertex normals at the end restores the input's volume
   // (the pre-pass and the patch updates lose 0.85 % on a coarse organic mesh: the cow).
   bool preserve_volume = true;
-  double saliency_scale = 0.003; // for the per-vertex quantities of the result only
+  double saliency_scale = 0.003; // the saliency of the result (and of the α rule) in bbox diagonals
 };
 
 struct FeatureSmoothReport {
@@ -73,7 +77,9 @@ struct FeatureSmoothReport {
   long rejected_moves = 0;      // non-finite positions: vertex kept
   double dihedral_spread_deg = 0; // of the input: the noise estimate
   double roughness = 0;           // 0 (clean) .. 1 (noisy), from the noise estimate
+  double amount = 0;              // the roughness with the user's strength: what scales the passes
   int prepass_pairs = 0;          // Taubin pairs actually run
+  int vertex_iterations = 0;      // vertex updates actually run per pass
   int normal_iterations = 0;      // normal filter iterations actually run per pass
   double volume_before = 0, volume_after = 0;
   bool closed = false;
@@ -106,82 +112,6 @@ inline Eigen::Matrix3d featureTangentProjector(int v, const Rings &rings,
   return P;
 }
 
-// Describes a result with the same per-vertex quantities as the other modes (curvatures and
-// saliency of the result, displacement from the input; α is 1: these modes do not use it).
-// Returns how many vertices moved.
-inline long describeResult(const std::vector<Vec3> &input, const std::vector<Vec3> &result,
-                           const std::vector<Face> &faces, const Rings &rings,
-                           double saliency_scale, VertexQuantities &quantities) {
-  const int n = int(result.size());
-  SurfaceAnalysis analysis;
-  analyseSurface(result, faces, rings, saliency_scale, analysis);
-  quantities.saliency = std::move(analysis.saliency);
-  quantities.k1 = std::move(analysis.curvature.k1);
-  quantities.k2 = std::move(analysis.curvature.k2);
-  quantities.mean = std::move(analysis.curvature.mean);
-  quantities.gauss = std::move(analysis.curvature.gauss);
-  quantities.alpha.assign(n, 1.0);
-  quantities.displacement.assign(n, 0.0);
-  long moved = 0;
-  for (int i = 0; i < n; ++i) {
-    quantities.displacement[i] = (result[i] - input[i]).norm();
-    moved += quantities.displacement[i] > 0;
-  }
-  return moved;
-}
-
-// What both face-patch drivers (this one and organic_smooth.h) set up once per run: topology,
-// which vertices may move (not frozen, selected when only the selection is smoothed), and the
-// input's enclosed volume.
-struct DriverSetup {
-  Rings rings;
-  EdgeStatistics stats;
-  VertexRoles roles;
-  FaceRings face_rings;
-  std::vector<std::uint8_t> fixed;
-  long frozen_vertices = 0, boundary_vertices = 0; // boundary: the movable ones
-  bool closed = false;
-  double volume_before = 0;
-};
-
-inline DriverSetup driverSetup(const MeshArrays &mesh, bool selected_only) {
-  DriverSetup s;
-  const int n = int(mesh.points.size());
-  s.rings = computeRings(n, mesh.faces);
-  s.stats = edgeStatistics(mesh.points, s.rings);
-  s.roles = vertexRoles(mesh, s.rings, s.stats.mean_edge_length);
-  s.face_rings = computeFaceRings(mesh.faces, s.rings);
-  s.closed = s.rings.boundary_edges == 0 && s.rings.nonmanifold_edges == 0;
-  s.fixed.assign(n, 0);
-  for (int v = 0; v < n; ++v) {
-    s.fixed[v] = s.roles.frozen[v] || (selected_only && !mesh.selected[v]);
-    s.frozen_vertices += s.roles.frozen[v];
-    s.boundary_vertices += s.rings.boundary[v] && !s.fixed[v];
-  }
-  s.volume_before = signedVolume(mesh.points, mesh.faces);
-  return s;
-}
-
-// The noise estimate as a roughness 0 (clean) .. 1 (noisy): linear in the median dihedral spread
-// between the two thresholds.
-inline double roughnessOf(double spread_deg, double clean_spread_deg, double noisy_spread_deg) {
-  return std::clamp((spread_deg - clean_spread_deg) / (noisy_spread_deg - clean_spread_deg), 0.0,
-                    1.0);
-}
-
-// Gives a closed mesh its input volume back by offsets along the vertex normals of the movable
-// vertices. The offset is first-order in the lost volume; a second round takes out what curvature
-// leaves (coarse sphere: 1.2 % lost, 6e-4 after one round).
-inline void restoreInputVolume(std::vector<Vec3> &points, const DriverSetup &setup,
-                               const std::vector<Face> &faces, std::vector<Vec3> &normals) {
-  std::vector<std::uint8_t> movable(setup.fixed.size());
-  for (size_t v = 0; v < movable.size(); ++v) movable[v] = !setup.fixed[v];
-  for (int round = 0; round < 2; ++round)
-    if (!restoreVolume(points, faces, setup.rings, movable, setup.volume_before,
-                       setup.stats.mean_edge_length, normals))
-      break;
-}
-
 } // namespace detail
 
 // `given_setup` (optional): the topology and roles of `mesh` with the same selected_only, when the
@@ -194,27 +124,6 @@ using FilteredNormalsCheck = std::function<bool(const std::vector<Vec3> &filtere
                                                 const detail::DriverSetup &setup)>;
 
 namespace detail {
-
-// Runs `drive(ordered_mesh, out, quantities)` on the mesh in spatial order (spatial_order.h) and
-// puts the result back in the input's order; `out_points` and `quantities` are left as they were
-// when the driver leaves its own untouched (cancelled, declined).
-template <class Drive>
-auto inSpatialOrder(const MeshArrays &mesh, std::vector<Vec3> &out_points,
-                    VertexQuantities &quantities, Drive drive) {
-  const SpatialOrder order = spatialOrder(mesh);
-  std::vector<Vec3> out;
-  VertexQuantities q;
-  auto report = drive(order.mesh, out, q);
-  if (out.size() == mesh.points.size()) {
-    order.toInputOrder(out);
-    for (std::vector<double> *values :
-         {&q.saliency, &q.k1, &q.k2, &q.mean, &q.gauss, &q.alpha, &q.displacement})
-      order.toInputOrder(*values);
-    out_points.swap(out);
-    quantities = std::move(q);
-  }
-  return report;
-}
 
 // The driver on `mesh` as given (featureSmoothMesh runs it in spatial order).
 inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
@@ -233,7 +142,8 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   const int face_count = int(mesh.faces.size());
   auto t = clock::now();
   std::optional<detail::DriverSetup> own_setup;
-  if (!given_setup) own_setup.emplace(detail::driverSetup(mesh, params.selected_only));
+  if (!given_setup)
+    own_setup.emplace(detail::driverSetup(mesh, params.selected_only, params.boundary));
   const detail::DriverSetup &setup = given_setup ? *given_setup : *own_setup;
   const Rings &rings = setup.rings;
   const EdgeStatistics &stats = setup.stats;
@@ -272,12 +182,14 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   report.dihedral_spread_deg = medianDihedralSpreadDeg(current, mesh.faces, geometry, face_rings);
   report.roughness = detail::roughnessOf(report.dihedral_spread_deg, params.clean_spread_deg,
                                          params.noisy_spread_deg);
-  report.prepass_pairs = int(std::lround(report.roughness * std::max(0, params.prepass_pairs)));
+  report.amount = detail::strengthen(report.roughness, params.strength);
+  report.prepass_pairs = int(std::lround(report.amount * std::max(0, params.prepass_pairs)));
   NormalFilterParams normal_filter = params.normals;
-  normal_filter.iterations = int(std::lround(report.roughness * std::max(0, params.normals.iterations)));
+  normal_filter.iterations = int(std::lround(report.amount * std::max(0, params.normals.iterations)));
   report.normal_iterations = normal_filter.iterations;
   const int vertex_iterations =
-      int(std::lround(report.roughness * std::max(0, params.vertex_iterations)));
+      int(std::lround(report.amount * std::max(0, params.vertex_iterations)));
+  report.vertex_iterations = vertex_iterations;
   if (edge > 0) taubinSmooth(current, rings, fixed, roles.boundary_neighbours, report.prepass_pairs);
   report.seconds_prepass = seconds(t);
   if (!report_progress(0, 0.05, "Taubin pre-pass")) return report.cancelled = true, report;
@@ -329,14 +241,14 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
       // Patches refine the last pass only: measured, earlier passes gain little from them for
       // their cost (a fit per face is most of a pass's time).
       const bool use_patches = pass == outer - 1 && it >= vertex_iterations - params.patch_iterations;
-      double mean_area = 0;
-      for (double a : geometry.area) mean_area += a / face_count;
       long fallbacks = 0, rejected = 0;
       if (use_patches) {
-#pragma omp parallel for schedule(static) reduction(+ : fallbacks) if (face_count >= min_parallel_vertices)
-        for (int f = 0; f < face_count; ++f)
-          fallbacks += !fitFacePatch(f, current, mesh.faces, face_rings, geometry, filtered,
-                                     mean_area, edge, params.patches, patches[f]);
+        const std::vector<double> face_alpha =
+            params.alpha_override ? std::vector<double>()
+                                  : detail::saliencyFaceAlpha(current, mesh.faces, setup,
+                                                              params.saliency_scale * stats.bbox_diagonal);
+        fallbacks = fitFacePatches(current, mesh.faces, face_rings, geometry, filtered, edge,
+                                   params.patches, face_alpha, patches);
       }
       // Boundary moves keep off the inward direction, which needs the surface normal there.
       if (report.boundary_vertices) computeVertexNormals(current, mesh.faces, rings, vertex_normals);
@@ -377,7 +289,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
         }
         if (rings.boundary[v])
           moved = detail::constrainBoundaryMove(v, moved, current, vertex_normals, roles,
-                                                BoundaryMode::NoInward);
+                                                params.boundary);
         if (moved.allFinite()) next[v] = moved;
         else ++rejected;
       }
@@ -417,6 +329,47 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
                                   return detail::featureSmoothAsGiven(ordered, params, out, q,
                                                                       progress);
                                 });
+}
+
+namespace detail {
+
+inline std::string featureSummary(const FeatureSmoothReport &r, const FeatureSmoothParams &p,
+                                  const VertexQuantities &q) {
+  if (r.amount <= 0) return "Feature-preserving: " + measuredCleanPhrase(r.dihedral_spread_deg, p.clean_spread_deg) + ".";
+  return formatLine("Feature-preserving: noise estimate %.1f deg dihedral spread (roughness %.2f), "
+                    "strength %.2f: %d pre-pass pairs, %d normal filter iterations and %d vertex "
+                    "updates per pass, %d passes; ",
+                    r.dihedral_spread_deg, r.roughness, p.strength, r.prepass_pairs,
+                    r.normal_iterations, r.vertex_iterations, r.outer_iterations_done) +
+         movedPhrase(q, r.mean_edge_length) + ".";
+}
+
+inline std::vector<std::string> featureDetails(const FeatureSmoothReport &r) {
+  std::vector<std::string> log;
+  appendFacePatchDriverLog(r, log);
+  log.push_back(formatLine("Time: topology and pre-pass %.3f s, normal filtering %.3f s, vertex "
+                           "updates %.3f s, result quantities %.3f s.",
+                           r.seconds_topology + r.seconds_prepass, r.seconds_normals,
+                           r.seconds_vertices, r.seconds_quantities));
+  return log;
+}
+
+} // namespace detail
+
+// The feature-preserving method as the filter runs it (methods.h).
+inline MethodRun featureMethod(const MeshArrays &mesh, const MethodParams &p,
+                               std::vector<Vec3> &out_points, VertexQuantities &quantities,
+                               const ProgressFn &progress) {
+  FeatureSmoothParams params;
+  detail::readCommonParams(p, params);
+  const FeatureSmoothReport r = featureSmoothMesh(mesh, params, out_points, quantities, progress);
+  MethodRun run;
+  run.cancelled = r.cancelled;
+  if (r.cancelled) return run;
+  run.method = "feature-preserving";
+  run.summary = detail::featureSummary(r, params, quantities);
+  run.details = detail::featureDetails(r);
+  return run;
 }
 
 } // namespace vcg_ext

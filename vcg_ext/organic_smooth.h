@@ -13,7 +13,8 @@
 #pragma once
 
 #include "band_shrink.h"
-#include "feature_smooth.h"
+#include "driver_setup.h"
+#include "face_patches.h"
 
 namespace vcg_ext {
 
@@ -30,7 +31,15 @@ struct OrganicSmoothParams {
   // meshes (lion head 7.15 -> 7.12, three_peaks 6.69 -> 6.76) for about a fifth of the time.
   int max_patch_updates = 1;
   FacePatchParams patches;
+  // false: the patches' α per face from the saliency (faceAlphaFromSaliency), as the paper's rule
+  bool alpha_override = true;
   bool selected_only = false;
+  BoundaryMode boundary = BoundaryMode::NoInward;
+  // The user's strength: scales the noise level the shrinkage removes (strengthen()); above 1 the
+  // level is at least (strength − 1) × noise_edges_per_strength mean edge lengths, so that a mesh
+  // measured as clean is smoothed too when asked.
+  double strength = 1.0;
+  double noise_edges_per_strength = 0.1;
   bool preserve_volume = true;
   double saliency_scale = 0.003;
 };
@@ -43,6 +52,7 @@ struct OrganicSmoothReport {
   int patch_updates = 0;
   double patch_step = 0;   // fraction of the way onto the patches per update
   double dihedral_spread_deg = 0, roughness = 0;
+  double amount = 0; // the share of the measured noise level removed, with the user's strength
   BandShrinkReport bands;
   double volume_before = 0, volume_after = 0;
   bool closed = false;
@@ -69,7 +79,8 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   auto t = clock::now();
   // `given_setup`: as in featureSmoothMesh, the topology when the caller has it already.
   std::optional<detail::DriverSetup> own_setup;
-  if (!given_setup) own_setup.emplace(detail::driverSetup(mesh, params.selected_only));
+  if (!given_setup)
+    own_setup.emplace(detail::driverSetup(mesh, params.selected_only, params.boundary));
   const detail::DriverSetup &setup = given_setup ? *given_setup : *own_setup;
   const Rings &rings = setup.rings;
   const detail::VertexRoles &roles = setup.roles;
@@ -91,13 +102,17 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   if (progress && !progress(5, "Noise estimate")) return report.cancelled = true, report;
 
   std::vector<Vec3> current = mesh.points;
-  const bool noisy = report.roughness > 0 && edge > 0;
+  report.amount = detail::strengthen(
+      std::min(1.0, report.roughness / params.full_noise_roughness), params.strength);
+  const bool noisy = report.amount > 0 && edge > 0;
   if (progress && !progress(6, noisy ? "Band shrinkage" : "The mesh measures as clean"))
     return report.cancelled = true, report;
   if (noisy) {
     t = clock::now();
     BandShrinkParams bands = params.bands;
-    bands.noise_scale *= std::min(1.0, report.roughness / params.full_noise_roughness);
+    bands.noise_scale *= report.amount;
+    // Asked for more than measured: at least a tenth of an edge length per strength unit above 1.
+    bands.min_noise_edges = std::max(0.0, params.strength - 1) * params.noise_edges_per_strength;
     report.bands = bandShrinkSmooth(current, mesh.faces, rings, fixed, roles.boundary_neighbours,
                                     bands, [&](double fraction) {
                                       return !progress ||
@@ -119,13 +134,14 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     report.patch_updates = patch_updates;
     for (int update = 0; update < patch_updates; ++update) {
       computeFaceGeometry(current, mesh.faces, geometry);
-      double mean_area = 0;
-      for (double a : geometry.area) mean_area += a / face_count;
-      long fallbacks = 0, rejected = 0;
-#pragma omp parallel for schedule(static) reduction(+ : fallbacks) if (face_count >= min_parallel_vertices)
-      for (int f = 0; f < face_count; ++f)
-        fallbacks += !fitFacePatch(f, current, mesh.faces, setup.face_rings, geometry, geometry.normal,
-                                   mean_area, edge, params.patches, patches[f]);
+      long rejected = 0;
+      const std::vector<double> face_alpha =
+          params.alpha_override ? std::vector<double>()
+                                : detail::saliencyFaceAlpha(current, mesh.faces, setup,
+                                                            params.saliency_scale * setup.stats.bbox_diagonal);
+      const long fallbacks = fitFacePatches(current, mesh.faces, setup.face_rings, geometry,
+                                            geometry.normal, edge, params.patches, face_alpha,
+                                            patches);
       if (report.boundary_vertices) computeVertexNormals(current, mesh.faces, rings, vertex_normals);
 #pragma omp parallel for schedule(static) reduction(+ : rejected) if (n >= min_parallel_vertices)
       for (int v = 0; v < n; ++v) {
@@ -135,7 +151,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
                                       (moveOntoFacePatches(v, current[v], rings, patches) - current[v]);
         if (rings.boundary[v])
           moved = detail::constrainBoundaryMove(v, moved, current, vertex_normals, roles,
-                                                BoundaryMode::NoInward);
+                                                params.boundary);
         if (moved.allFinite()) next[v] = moved;
         else ++rejected;
       }
@@ -175,6 +191,55 @@ inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
                                   return detail::organicSmoothAsGiven(ordered, params, out, q,
                                                                       progress);
                                 });
+}
+
+namespace detail {
+
+inline std::string organicSummary(const OrganicSmoothReport &r, const OrganicSmoothParams &p,
+                                  const VertexQuantities &q) {
+  if (r.amount <= 0) return "Organic: " + measuredCleanPhrase(r.dihedral_spread_deg, p.clean_spread_deg) + ".";
+  return formatLine("Organic: noise estimate %.3f mean edge lengths along the normals (dihedral "
+                    "spread %.1f deg, roughness %.2f), strength %.2f: removed %.2f of it; ",
+                    r.mean_edge_length > 0 ? r.bands.noise_sigma / r.mean_edge_length : 0.0,
+                    r.dihedral_spread_deg, r.roughness, p.strength, r.amount) +
+         movedPhrase(q, r.mean_edge_length) + ".";
+}
+
+inline std::vector<std::string> organicDetails(const OrganicSmoothReport &r) {
+  std::vector<std::string> log;
+  if (r.amount > 0) {
+    std::string gains = formatLine("Shape spectrum slope %.2f, coarse-band shape/noise %.2f, "
+                                   "fine-band shape/noise %.2f: alpha %.2f; band gains (fine to "
+                                   "coarse):",
+                                   r.bands.shape_slope, r.bands.coarse_snr, r.bands.fine_snr,
+                                   r.bands.alpha);
+    for (double g : r.bands.gains) gains += formatLine(" %.2f", g);
+    log.push_back(gains + ".");
+  }
+  appendFacePatchDriverLog(r, log);
+  log.push_back(formatLine("Time: topology %.3f s, band shrinkage %.3f s, patch update %.3f s, "
+                           "result quantities %.3f s.",
+                           r.seconds_topology, r.seconds_bands, r.seconds_patches,
+                           r.seconds_quantities));
+  return log;
+}
+
+} // namespace detail
+
+// The organic method as the filter runs it (methods.h).
+inline MethodRun organicMethod(const MeshArrays &mesh, const MethodParams &p,
+                               std::vector<Vec3> &out_points, VertexQuantities &quantities,
+                               const ProgressFn &progress) {
+  OrganicSmoothParams params;
+  detail::readCommonParams(p, params);
+  const OrganicSmoothReport r = organicSmoothMesh(mesh, params, out_points, quantities, progress);
+  MethodRun run;
+  run.cancelled = r.cancelled;
+  if (r.cancelled) return run;
+  run.method = "organic";
+  run.summary = detail::organicSummary(r, params, quantities);
+  run.details = detail::organicDetails(r);
+  return run;
 }
 
 } // namespace vcg_ext

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <support/analytic_meshes.h>
 #include <vcg_ext/feature_smooth.h>
+#include <vcg_ext/paper_smooth.h>
 
 using namespace vcg_ext;
 

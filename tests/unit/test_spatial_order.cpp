@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 #include <support/analytic_meshes.h>
 #include <vcg_ext/normal_filter.h>
-#include <vcg_ext/smooth.h>
+#include <vcg_ext/paper_smooth.h>
 #include <vcg_ext/spatial_taubin.h>
 
 #include <set>

@@ -1,4 +1,5 @@
-// The smoothing driver (paper sections 3.1-3.3, ALGORITHM.md stages 0-8).
+// The paper's method (sections 3.1-3.3, ALGORITHM.md stages 0-8) with its three placements: the
+// ring barycentre, the patch point and the paper's Newton solve.
 //
 // Inputs: a mesh as plain arrays (mesh_arrays.h) and SmoothParams. Outputs: the new positions, the
 // per-vertex quantities of the last iteration, and a SmoothReport. The input is never modified, so a
@@ -8,11 +9,9 @@
 #pragma once
 
 #include "bezier_patch.h"
-#include "mesh_metrics.h"
+#include "driver_setup.h"
 #include "patch_neighbourhood.h"
 #include "placement.h"
-#include "surface_analysis.h"
-#include "uniform_curvature.h"
 
 #include <chrono>
 #include <functional>
@@ -25,17 +24,6 @@ enum class PlacementMode {
   PatchPoint,     // the vertex's own patch point B(u_i, v_i)
   RingBarycentre, // the patch point at the parameter of the 1-ring barycentre
 };
-enum class BoundaryMode {
-  Paper,         // as interior vertices
-  Fixed,         // never moved
-  AlongBoundary, // only along the boundary curve's tangent
-  NoInward,      // along the tangent and the surface normal, never toward the interior
-};
-enum class FoldHandling {
-  Ignore, // fit anyway: least squares does not need a one-to-one projection
-  Paper,  // retry with the vertex's own normal, then with the 1-ring; else keep the vertex
-};
-
 struct SmoothParams {
   int iterations = 3;
   PlacementMode placement = PlacementMode::RingBarycentre;
@@ -74,73 +62,7 @@ struct SmoothReport {
   double seconds_topology = 0, seconds_curvature = 0, seconds_saliency = 0, seconds_fit = 0;
 };
 
-struct VertexQuantities {
-  std::vector<double> saliency, k1, k2, mean, gauss, alpha, displacement;
-};
-
-// Called between stages and between blocks of vertices with a percentage; returning false cancels.
-using ProgressFn = std::function<bool(int percent, const char *stage)>;
-
-// The scales the computations in double can carry: normals and fits take products of up to four
-// lengths (squared norms of cross products), which overflow beyond ~1e77 and vanish below ~1e-77;
-// the limits keep a wide margin.
-constexpr double kMaxCoordinate = 1e30, kMinExtent = 1e-30;
-
-// Why a mesh cannot be smoothed (empty string: it can).
-inline std::string validateForSmoothing(const MeshArrays &mesh) {
-  if (mesh.points.empty()) return "the mesh has no vertices";
-  if (mesh.faces.empty()) return "the mesh has no faces (a point cloud): the filter needs triangles";
-  for (const Vec3 &p : mesh.points)
-    if (!p.allFinite()) return "the mesh has NaN or infinite vertex coordinates; remove them first";
-  Vec3 lo = mesh.points[0], hi = lo;
-  for (const Vec3 &p : mesh.points) {
-    if (p.cwiseAbs().maxCoeff() > kMaxCoordinate)
-      return "the mesh has vertex coordinates beyond 1e30, where the computations in double would "
-             "overflow; scale the mesh down first";
-    lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  }
-  if (!((hi - lo).norm() >= kMinExtent))
-    return "the mesh is smaller than 1e-30 across (or all its vertices coincide), where the "
-           "computations in double would underflow; scale the mesh up first";
-  return {};
-}
-
 namespace detail {
-
-// Per run: which vertices may move and, on the boundary, their two boundary neighbours.
-struct VertexRoles {
-  std::vector<std::uint8_t> frozen;
-  std::vector<std::array<int, 2>> boundary_neighbours; // -1 where absent
-};
-
-inline VertexRoles vertexRoles(const MeshArrays &mesh, const Rings &rings, double edge) {
-  VertexRoles roles;
-  const int n = rings.vertex_count;
-  roles.frozen.assign(n, 0);
-  roles.boundary_neighbours.assign(n, {-1, -1});
-  const double min_area = 1e-12 * edge * edge;
-  for (const Face &f : mesh.faces) {
-    const Vec3 &a = mesh.points[f[0]], &b = mesh.points[f[1]], &c = mesh.points[f[2]];
-    if (!(0.5 * (b - a).cross(c - a).norm() > min_area) || f[0] == f[1] || f[1] == f[2] ||
-        f[0] == f[2])
-      roles.frozen[f[0]] = roles.frozen[f[1]] = roles.frozen[f[2]] = 1;
-  }
-  for (int v = 0; v < n; ++v) {
-    if (rings.nonmanifold[v] || rings.isolated[v]) roles.frozen[v] = 1;
-    if (!rings.boundary[v]) continue;
-    // A boundary edge (v, w) lies in exactly one of v's faces.
-    int found = 0;
-    for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v) && found < 2; ++w) {
-      int shared = 0;
-      for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) {
-        const Face &t = mesh.faces[*f];
-        shared += (t[0] == *w || t[1] == *w || t[2] == *w);
-      }
-      if (shared == 1) roles.boundary_neighbours[v][found++] = *w;
-    }
-  }
-  return roles;
-}
 
 struct Counters {
   long fold_fallbacks = 0, fold_skips = 0, fit_failures = 0, newton_failures = 0, rejected = 0;
@@ -154,55 +76,6 @@ inline Vec3 neighbourhoodNormal(int i, const Rings &rings, const std::vector<Vec
   return len > 1e-12 ? Vec3(sum / len) : normals[i];
 }
 
-// Applies the boundary mode to a boundary vertex's proposed position.
-inline Vec3 constrainBoundaryMove(int i, const Vec3 &moved, const std::vector<Vec3> &current,
-                                  const std::vector<Vec3> &normals, const VertexRoles &roles,
-                                  BoundaryMode mode) {
-  if (mode == BoundaryMode::Paper) return moved;
-  const auto &bn = roles.boundary_neighbours[i];
-  if (mode == BoundaryMode::Fixed || bn[0] < 0 || bn[1] < 0) return current[i];
-  const Vec3 in = current[i] - current[bn[0]], out = current[bn[1]] - current[i];
-  // A boundary corner (turning more than 45 degrees) is a feature: it stays.
-  if (in.dot(out) < std::cos(M_PI / 4) * in.norm() * out.norm()) return current[i];
-  const Vec3 tangent = (current[bn[1]] - current[bn[0]]).normalized();
-  const Vec3 step = moved - current[i];
-  Vec3 result;
-  if (mode == BoundaryMode::AlongBoundary) {
-    result = current[i] + tangent * tangent.dot(step);
-  } else {
-    const Vec3 inward = normals[i].cross(tangent).normalized();
-    result = moved - inward * inward.dot(step);
-  }
-  return result.allFinite() ? result : current[i];
-}
-
-// The distance d such that moving every vertex flagged in `moved` by d along its normal changes the
-// enclosed volume by `missing` (to first order: each vertex sweeps a third of its faces' area).
-inline double volumeRestoringOffset(const std::vector<Vec3> &points, const std::vector<Face> &faces,
-                                    const std::vector<std::uint8_t> &moved, double missing) {
-  double swept = 0;
-  for (const Face &f : faces) {
-    const double third = (points[f[1]] - points[f[0]]).cross(points[f[2]] - points[f[0]]).norm() / 6;
-    for (int k = 0; k < 3; ++k) swept += moved[f[k]] ? third : 0.0;
-  }
-  return swept > 0 ? missing / swept : 0.0;
-}
-
-// Offsets the vertices flagged in `moved` along their normals so that the enclosed volume becomes
-// `target` (first order). Returns false, leaving `points` as they are, when the offset would exceed
-// `max_offset`: that means a (nearly) collapsed surface, not a lost sliver of volume (found by the
-// fuzzer: a flattened octahedron asked for 1e15 edge lengths).
-inline bool restoreVolume(std::vector<Vec3> &points, const std::vector<Face> &faces,
-                          const Rings &rings, const std::vector<std::uint8_t> &moved,
-                          double target, double max_offset, std::vector<Vec3> &normals) {
-  computeVertexNormals(points, faces, rings, normals);
-  const double offset =
-      volumeRestoringOffset(points, faces, moved, target - signedVolume(points, faces));
-  if (!(std::abs(offset) <= max_offset)) return false;
-  for (size_t i = 0; i < points.size(); ++i)
-    if (moved[i]) points[i] += offset * normals[i];
-  return true;
-}
 
 // Whether a patch point (local coordinates) lies within the neighbourhood's bounding box grown by
 // the box's largest extent. A nearly singular fit (e.g. 9 points that almost interpolate the 9
@@ -332,27 +205,23 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
   SmoothReport report;
   const int n = int(mesh.points.size());
   auto t0 = clock::now();
-  Rings rings = computeRings(n, mesh.faces);
-  const EdgeStatistics stats = edgeStatistics(mesh.points, rings);
-  const detail::VertexRoles roles = detail::vertexRoles(mesh, rings, stats.mean_edge_length);
+  detail::DriverSetup setup =
+      detail::driverSetup(mesh, params.selected_only, params.boundary, /*with_face_rings=*/false);
+  Rings &rings = setup.rings;
+  const EdgeStatistics &stats = setup.stats;
+  const detail::VertexRoles &roles = setup.roles;
   report.seconds_topology = seconds(t0);
   report.mean_edge_length = stats.mean_edge_length;
   report.bbox_diagonal = stats.bbox_diagonal;
-  report.closed = rings.boundary_edges == 0 && rings.nonmanifold_edges == 0;
+  report.closed = setup.closed;
   for (int v = 0; v < n; ++v) {
     report.frozen_vertices += roles.frozen[v];
     if (rings.nonmanifold[v]) ++report.nonmanifold_vertices;
     else if (rings.isolated[v]) ++report.isolated_vertices;
     else if (roles.frozen[v]) ++report.degenerate_vertices;
   }
-  report.volume_before = signedVolume(mesh.points, mesh.faces);
-
-  auto movable = [&](int i) {
-    if (roles.frozen[i]) return false;
-    if (params.selected_only && !mesh.selected[i]) return false;
-    if (rings.boundary[i] && params.boundary == BoundaryMode::Fixed) return false;
-    return true;
-  };
+  report.volume_before = setup.volume_before;
+  auto movable = [&](int i) { return !setup.fixed[i]; };
 
   std::vector<Vec3> current = mesh.points, next = mesh.points;
   std::vector<double> alpha(n, 1.0);
@@ -384,6 +253,7 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
     // modes skip it inside the iterations (it is the costliest stage) and describe the result once.
     if (needs_saliency) {
       t = clock::now();
+      // The paper's curvature map: "negative minima of principal curvatures", i.e. k2.
       computeSaliency(current, rings, analysis.curvature.k2, saliency_scale, analysis.saliency,
                       params.saliency);
       report.seconds_saliency += seconds(t);
@@ -455,7 +325,8 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
   computeCurvature(current, mesh.faces, rings, analysis.curvature);
   report.seconds_curvature += seconds(t);
   t = clock::now();
-  computeSaliency(current, rings, analysis.curvature.k2, saliency_scale, analysis.saliency,
+  // The result is described like the other methods' (Lee et al.'s saliency, surface_analysis.h).
+  computeSaliency(current, rings, analysis.curvature.mean, saliency_scale, analysis.saliency,
                   params.saliency);
   report.seconds_saliency += seconds(t);
 
@@ -473,6 +344,53 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
   report.volume_after = signedVolume(current, mesh.faces);
   out_points.swap(current);
   return report;
+}
+
+// The paper's method as the filter runs it (methods.h): `iterations` iterations of `placement`.
+inline MethodRun paperMethod(PlacementMode placement, const MeshArrays &mesh,
+                             const MethodParams &p, std::vector<Vec3> &out_points,
+                             VertexQuantities &quantities, const ProgressFn &progress) {
+  SmoothParams s;
+  s.iterations = p.iterations;
+  s.placement = placement;
+  s.uniform_variant = p.uniform_variant;
+  s.alpha_override = p.alpha_override;
+  s.alpha = p.alpha;
+  s.boundary = p.boundary;
+  s.folds = p.folds;
+  s.newton_iterations = p.newton_iterations;
+  s.newton_step_limit = p.newton_step_limit;
+  s.saliency_scale = p.saliency_scale;
+  s.selected_only = p.selected_only;
+  s.preserve_volume = p.preserve_volume;
+  const SmoothReport r = smoothMesh(mesh, s, out_points, quantities, progress);
+  MethodRun run;
+  run.cancelled = r.cancelled;
+  if (r.cancelled) return run;
+  const char *names[] = {"paper (Newton)", "patch point", "ring barycentre"};
+  run.method = names[int(placement)];
+  run.summary = detail::formatLine("Paper's method, %s placement, %d iterations: ",
+                                   run.method.c_str(), r.iterations_done) +
+                detail::movedPhrase(quantities, r.mean_edge_length) + ".";
+  using detail::formatLine;
+  if (r.frozen_vertices > 0)
+    run.details.push_back(formatLine("Skipped (left in place): %ld non-manifold, %ld isolated (in "
+                                     "no face), %ld on degenerate faces.",
+                                     r.nonmanifold_vertices, r.isolated_vertices,
+                                     r.degenerate_vertices));
+  run.details.push_back(formatLine("Fold fallbacks %ld, fold skips %ld, Newton failures %ld.",
+                                   r.fold_fallbacks, r.fold_skips, r.newton_failures));
+  if (r.fit_failures + r.rejected_moves > 0)
+    run.details.push_back(formatLine("Kept in place (over all iterations): %ld failed fits, %ld "
+                                     "non-finite results.",
+                                     r.fit_failures, r.rejected_moves));
+  if (r.closed && r.volume_before != 0)
+    run.details.push_back(detail::volumeLine(r.volume_before, r.volume_after));
+  run.details.push_back(formatLine("Time: topology %.3f s, curvature %.3f s, saliency %.3f s, "
+                                   "patch fit + placement %.3f s.",
+                                   r.seconds_topology, r.seconds_curvature, r.seconds_saliency,
+                                   r.seconds_fit));
+  return run;
 }
 
 } // namespace vcg_ext

@@ -1,0 +1,370 @@
+// What every smoothing method shares: the result's per-vertex quantities, progress and cancel,
+// the input check, and the per-run set-up (topology, which vertices may move, boundary
+// constraints, the input's volume, the spatial order the drivers run in), so that the method
+// drivers (paper_smooth.h, feature_smooth.h, organic_smooth.h, auto_smooth.h) stand side by side
+// on it instead of including each other.
+//
+// Also the common parameters and the outcome every method returns to the table (methods.h): the
+// filter's dialog reads into MethodParams, and a MethodRun says which method ran, what it measured
+// and what it did, in lines a user reads.
+#pragma once
+
+#include "face_patches.h"
+#include "mesh_metrics.h"
+#include "normal_filter.h"
+#include "spatial_order.h"
+#include "surface_analysis.h"
+#include "uniform_curvature.h"
+
+#include <array>
+#include <cstdarg>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace vcg_ext {
+
+enum class BoundaryMode {
+  Paper,         // as interior vertices
+  Fixed,         // never moved
+  AlongBoundary, // only along the boundary curve's tangent
+  NoInward,      // along the tangent and the surface normal, never toward the interior
+};
+enum class FoldHandling {
+  Ignore, // fit anyway: least squares does not need a one-to-one projection
+  Paper,  // retry with the vertex's own normal, then with the 1-ring; else keep the vertex
+};
+
+struct VertexQuantities {
+  std::vector<double> saliency, k1, k2, mean, gauss, alpha, displacement;
+};
+
+// The filter's parameters as the methods read them (methods.h lists which method reads which).
+struct MethodParams {
+  // The paper's placements: the number of iterations. The other methods measure how much smoothing
+  // the mesh needs; for them `iterations` is that amount in thirds (strength()): 3 = as measured,
+  // 6 = twice as much, 1 = a third, 0 = nothing. Old scripts' 3 keeps its meaning either way.
+  int iterations = 3;
+  bool alpha_override = true; // false: the paper's α = Sal_min / Sal_max over each fit's data
+  double alpha = 1.0;         // the patch fits' data weight against their smoothness term (paper α)
+  BoundaryMode boundary = BoundaryMode::NoInward;
+  bool preserve_volume = true;
+  bool selected_only = false;
+  double saliency_scale = 0.003; // the paper's ε as a fraction of the bbox diagonal
+  // The paper's placements only.
+  FoldHandling folds = FoldHandling::Ignore;
+  UniformCurvatureVariant uniform_variant = UniformCurvatureVariant::Neighbour; // Newton only
+  int newton_iterations = 2;                                                    // Newton only
+  double newton_step_limit = 1.0; // Newton only, in mean edge lengths; 0 = no limit
+  double strength() const { return std::max(0, iterations) / 3.0; }
+};
+
+// What a method did, for the filter's log: which method ran (the automatic one names its choice),
+// one line a user reads (what was measured, what was done), and the details.
+struct MethodRun {
+  bool cancelled = false;
+  std::string method;
+  std::string summary;
+  std::vector<std::string> details;
+};
+
+// Called between stages and between blocks of vertices with a percentage; returning false cancels.
+using ProgressFn = std::function<bool(int percent, const char *stage)>;
+
+// The scales the computations in double can carry: normals and fits take products of up to four
+// lengths (squared norms of cross products), which overflow beyond ~1e77 and vanish below ~1e-77;
+// the limits keep a wide margin.
+constexpr double kMaxCoordinate = 1e30, kMinExtent = 1e-30;
+
+// Why a mesh cannot be smoothed (empty string: it can).
+inline std::string validateForSmoothing(const MeshArrays &mesh) {
+  if (mesh.points.empty()) return "the mesh has no vertices";
+  if (mesh.faces.empty()) return "the mesh has no faces (a point cloud): the filter needs triangles";
+  for (const Vec3 &p : mesh.points)
+    if (!p.allFinite()) return "the mesh has NaN or infinite vertex coordinates; remove them first";
+  Vec3 lo = mesh.points[0], hi = lo;
+  for (const Vec3 &p : mesh.points) {
+    if (p.cwiseAbs().maxCoeff() > kMaxCoordinate)
+      return "the mesh has vertex coordinates beyond 1e30, where the computations in double would "
+             "overflow; scale the mesh down first";
+    lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  }
+  if (!((hi - lo).norm() >= kMinExtent))
+    return "the mesh is smaller than 1e-30 across (or all its vertices coincide), where the "
+           "computations in double would underflow; scale the mesh up first";
+  return {};
+}
+
+namespace detail {
+
+// printf into a std::string (the methods' log lines).
+inline std::string formatLine(const char *format, ...) {
+  char buffer[512];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(buffer, sizeof buffer, format, args);
+  va_end(args);
+  return buffer;
+}
+
+// "6475 of 6475 vertices moved, by 0.21 mean edge lengths on average": what a user checks first.
+inline std::string movedPhrase(const VertexQuantities &q, double mean_edge) {
+  long moved = 0;
+  double sum = 0;
+  for (double d : q.displacement) moved += d > 0, sum += d;
+  const double mean = q.displacement.empty() || !(mean_edge > 0)
+                          ? 0.0 : sum / double(q.displacement.size()) / mean_edge;
+  return formatLine("%ld of %zu vertices moved, by %.3g mean edge lengths on average", moved,
+                    q.displacement.size(), mean);
+}
+
+// The log line of the vertices a driver could not move.
+inline std::string skippedLine(long frozen) {
+  return formatLine("Skipped (left in place): %ld non-manifold, isolated or on degenerate faces.",
+                    frozen);
+}
+
+// The log line of a closed mesh's volume change.
+inline std::string volumeLine(double before, double after) {
+  return formatLine("Volume %g -> %g (ratio %.4f).", before, after, after / before);
+}
+
+// The feature-preserving and organic drivers' common log lines.
+template <class Report>
+void appendFacePatchDriverLog(const Report &r, std::vector<std::string> &log) {
+  if (r.frozen_vertices > 0) log.push_back(skippedLine(r.frozen_vertices));
+  if (r.plane_fallbacks + r.rejected_moves > 0)
+    log.push_back(formatLine("Patch fits that fell back to the face plane: %ld; non-finite moves "
+                             "kept in place: %ld.",
+                             r.plane_fallbacks, r.rejected_moves));
+  if (r.closed && r.volume_before != 0) log.push_back(volumeLine(r.volume_before, r.volume_after));
+}
+
+// The common parameters as the face-patch drivers read them.
+template <class DriverParams>
+void readCommonParams(const MethodParams &p, DriverParams &d) {
+  d.strength = p.strength();
+  d.patches.alpha = p.alpha;
+  d.alpha_override = p.alpha_override;
+  d.boundary = p.boundary;
+  d.preserve_volume = p.preserve_volume;
+  d.selected_only = p.selected_only;
+  d.saliency_scale = p.saliency_scale;
+}
+
+// What a user reads when a driver finds nothing to do.
+inline std::string measuredCleanPhrase(double spread_deg, double clean_spread_deg) {
+  return formatLine("the mesh measures as clean (dihedral spread %.1f deg, noise from %.0f deg): "
+                    "left as it is; set Iterations above 3 to smooth it anyway",
+                    spread_deg, clean_spread_deg);
+}
+
+// Per run: which vertices may move and, on the boundary, their two boundary neighbours.
+struct VertexRoles {
+  std::vector<std::uint8_t> frozen;
+  std::vector<std::array<int, 2>> boundary_neighbours; // -1 where absent
+};
+
+inline VertexRoles vertexRoles(const MeshArrays &mesh, const Rings &rings, double edge) {
+  VertexRoles roles;
+  const int n = rings.vertex_count;
+  roles.frozen.assign(n, 0);
+  roles.boundary_neighbours.assign(n, {-1, -1});
+  const double min_area = 1e-12 * edge * edge;
+  for (const Face &f : mesh.faces) {
+    const Vec3 &a = mesh.points[f[0]], &b = mesh.points[f[1]], &c = mesh.points[f[2]];
+    if (!(0.5 * (b - a).cross(c - a).norm() > min_area) || f[0] == f[1] || f[1] == f[2] ||
+        f[0] == f[2])
+      roles.frozen[f[0]] = roles.frozen[f[1]] = roles.frozen[f[2]] = 1;
+  }
+  for (int v = 0; v < n; ++v) {
+    if (rings.nonmanifold[v] || rings.isolated[v]) roles.frozen[v] = 1;
+    if (!rings.boundary[v]) continue;
+    // A boundary edge (v, w) lies in exactly one of v's faces.
+    int found = 0;
+    for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v) && found < 2; ++w) {
+      int shared = 0;
+      for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) {
+        const Face &t = mesh.faces[*f];
+        shared += (t[0] == *w || t[1] == *w || t[2] == *w);
+      }
+      if (shared == 1) roles.boundary_neighbours[v][found++] = *w;
+    }
+  }
+  return roles;
+}
+
+// Applies the boundary mode to a boundary vertex's proposed position.
+inline Vec3 constrainBoundaryMove(int i, const Vec3 &moved, const std::vector<Vec3> &current,
+                                  const std::vector<Vec3> &normals, const VertexRoles &roles,
+                                  BoundaryMode mode) {
+  if (mode == BoundaryMode::Paper) return moved;
+  const auto &bn = roles.boundary_neighbours[i];
+  if (mode == BoundaryMode::Fixed || bn[0] < 0 || bn[1] < 0) return current[i];
+  const Vec3 in = current[i] - current[bn[0]], out = current[bn[1]] - current[i];
+  // A boundary corner (turning more than 45 degrees) is a feature: it stays.
+  if (in.dot(out) < std::cos(M_PI / 4) * in.norm() * out.norm()) return current[i];
+  const Vec3 tangent = (current[bn[1]] - current[bn[0]]).normalized();
+  const Vec3 step = moved - current[i];
+  Vec3 result;
+  if (mode == BoundaryMode::AlongBoundary) {
+    result = current[i] + tangent * tangent.dot(step);
+  } else {
+    const Vec3 inward = normals[i].cross(tangent).normalized();
+    result = moved - inward * inward.dot(step);
+  }
+  return result.allFinite() ? result : current[i];
+}
+
+// The distance d such that moving every vertex flagged in `moved` by d along its normal changes the
+// enclosed volume by `missing` (to first order: each vertex sweeps a third of its faces' area).
+inline double volumeRestoringOffset(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                    const std::vector<std::uint8_t> &moved, double missing) {
+  double swept = 0;
+  for (const Face &f : faces) {
+    const double third = (points[f[1]] - points[f[0]]).cross(points[f[2]] - points[f[0]]).norm() / 6;
+    for (int k = 0; k < 3; ++k) swept += moved[f[k]] ? third : 0.0;
+  }
+  return swept > 0 ? missing / swept : 0.0;
+}
+
+// Offsets the vertices flagged in `moved` along their normals so that the enclosed volume becomes
+// `target` (first order). Returns false, leaving `points` as they are, when the offset would exceed
+// `max_offset`: that means a (nearly) collapsed surface, not a lost sliver of volume (found by the
+// fuzzer: a flattened octahedron asked for 1e15 edge lengths).
+inline bool restoreVolume(std::vector<Vec3> &points, const std::vector<Face> &faces,
+                          const Rings &rings, const std::vector<std::uint8_t> &moved,
+                          double target, double max_offset, std::vector<Vec3> &normals) {
+  computeVertexNormals(points, faces, rings, normals);
+  const double offset =
+      volumeRestoringOffset(points, faces, moved, target - signedVolume(points, faces));
+  if (!(std::abs(offset) <= max_offset)) return false;
+  for (size_t i = 0; i < points.size(); ++i)
+    if (moved[i]) points[i] += offset * normals[i];
+  return true;
+}
+
+// Describes a result with the same per-vertex quantities as the other modes (curvatures and
+// saliency of the result, displacement from the input; α is 1: these modes do not use it).
+// Returns how many vertices moved.
+inline long describeResult(const std::vector<Vec3> &input, const std::vector<Vec3> &result,
+                           const std::vector<Face> &faces, const Rings &rings,
+                           double saliency_scale, VertexQuantities &quantities) {
+  const int n = int(result.size());
+  SurfaceAnalysis analysis;
+  analyseSurface(result, faces, rings, saliency_scale, analysis);
+  quantities.saliency = std::move(analysis.saliency);
+  quantities.k1 = std::move(analysis.curvature.k1);
+  quantities.k2 = std::move(analysis.curvature.k2);
+  quantities.mean = std::move(analysis.curvature.mean);
+  quantities.gauss = std::move(analysis.curvature.gauss);
+  quantities.alpha.assign(n, 1.0);
+  quantities.displacement.assign(n, 0.0);
+  long moved = 0;
+  for (int i = 0; i < n; ++i) {
+    quantities.displacement[i] = (result[i] - input[i]).norm();
+    moved += quantities.displacement[i] > 0;
+  }
+  return moved;
+}
+
+// What the drivers set up once per run: topology, which vertices may move (not frozen, selected
+// when only the selection is smoothed, not on the boundary when the boundary is fixed), and the
+// input's enclosed volume. The face rings only for the drivers that filter face normals.
+struct DriverSetup {
+  Rings rings;
+  EdgeStatistics stats;
+  VertexRoles roles;
+  FaceRings face_rings;
+  std::vector<std::uint8_t> fixed;
+  long frozen_vertices = 0, boundary_vertices = 0; // boundary: the movable ones
+  bool closed = false;
+  double volume_before = 0;
+};
+
+inline DriverSetup driverSetup(const MeshArrays &mesh, bool selected_only,
+                               BoundaryMode boundary = BoundaryMode::NoInward,
+                               bool with_face_rings = true) {
+  DriverSetup s;
+  const int n = int(mesh.points.size());
+  s.rings = computeRings(n, mesh.faces);
+  s.stats = edgeStatistics(mesh.points, s.rings);
+  s.roles = vertexRoles(mesh, s.rings, s.stats.mean_edge_length);
+  if (with_face_rings) s.face_rings = computeFaceRings(mesh.faces, s.rings);
+  s.closed = s.rings.boundary_edges == 0 && s.rings.nonmanifold_edges == 0;
+  s.fixed.assign(n, 0);
+  for (int v = 0; v < n; ++v) {
+    s.fixed[v] = s.roles.frozen[v] || (selected_only && !mesh.selected[v]) ||
+                 (boundary == BoundaryMode::Fixed && s.rings.boundary[v]);
+    s.frozen_vertices += s.roles.frozen[v];
+    s.boundary_vertices += s.rings.boundary[v] && !s.fixed[v];
+  }
+  s.volume_before = signedVolume(mesh.points, mesh.faces);
+  return s;
+}
+
+// The noise estimate as a roughness 0 (clean) .. 1 (noisy): linear in the median dihedral spread
+// between the two thresholds.
+inline double roughnessOf(double spread_deg, double clean_spread_deg, double noisy_spread_deg) {
+  return std::clamp((spread_deg - clean_spread_deg) / (noisy_spread_deg - clean_spread_deg), 0.0,
+                    1.0);
+}
+
+// How much a driver smooths: the measured need (0 = clean .. 1 = noisy) times the user's
+// strength; above strength 1 each further unit adds the full amount, so that a mesh measured as
+// clean is smoothed too when the user asks for more (strength 2 on a clean mesh: what a noisy
+// mesh gets at 1). Continuous in both, and the need itself at strength 1.
+inline double strengthen(double need, double strength) {
+  strength = std::max(0.0, strength);
+  return strength <= 1 ? need * strength : need + (strength - 1);
+}
+
+// The patches' α per face by the paper's saliency rule (faceAlphaFromSaliency) on the current
+// positions: what the drivers' face-patch fits use when the user turns the α override off.
+inline std::vector<double> saliencyFaceAlpha(const std::vector<Vec3> &points,
+                                             const std::vector<Face> &faces,
+                                             const DriverSetup &setup, double saliency_scale) {
+  SurfaceAnalysis analysis;
+  analyseSurface(points, faces, setup.rings, saliency_scale, analysis);
+  return faceAlphaFromSaliency(faces, setup.face_rings, analysis.saliency);
+}
+
+// Gives a closed mesh its input volume back by offsets along the vertex normals of the movable
+// vertices. The offset is first-order in the lost volume; a second round takes out what curvature
+// leaves (coarse sphere: 1.2 % lost, 6e-4 after one round).
+inline void restoreInputVolume(std::vector<Vec3> &points, const DriverSetup &setup,
+                               const std::vector<Face> &faces, std::vector<Vec3> &normals) {
+  std::vector<std::uint8_t> movable(setup.fixed.size());
+  for (size_t v = 0; v < movable.size(); ++v) movable[v] = !setup.fixed[v];
+  for (int round = 0; round < 2; ++round)
+    if (!restoreVolume(points, faces, setup.rings, movable, setup.volume_before,
+                       setup.stats.mean_edge_length, normals))
+      break;
+}
+
+// Runs `drive(ordered_mesh, out, quantities)` on the mesh in spatial order (spatial_order.h) and
+// puts the result back in the input's order; `out_points` and `quantities` are left as they were
+// when the driver leaves its own untouched (cancelled, declined).
+template <class Drive>
+auto inSpatialOrder(const MeshArrays &mesh, std::vector<Vec3> &out_points,
+                    VertexQuantities &quantities, Drive drive) {
+  const SpatialOrder order = spatialOrder(mesh);
+  std::vector<Vec3> out;
+  VertexQuantities q;
+  auto report = drive(order.mesh, out, q);
+  if (out.size() == mesh.points.size()) {
+    order.toInputOrder(out);
+    for (std::vector<double> *values :
+         {&q.saliency, &q.k1, &q.k2, &q.mean, &q.gauss, &q.alpha, &q.displacement})
+      order.toInputOrder(*values);
+    out_points.swap(out);
+    quantities = std::move(q);
+  }
+  return report;
+}
+
+} // namespace detail
+
+} // namespace vcg_ext
