@@ -24,8 +24,7 @@ struct FilterOutcome {
   bool ok = false;
   std::string error;
   std::vector<std::string> log;
-  std::string method;   // the smoothing method that ran (the automatic one names its choice)
-  std::string summary;  // the log's first line: what was measured and what was done
+  vcg_ext::MethodRun run; // the smoothing method's outcome: which ran, the summary line, figures
   bool colored = false; // the vertex colours were written (the GUI must show them)
 };
 
@@ -308,8 +307,7 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
   const bool color = p.count("color") && p.at("color") != 0;
   const long clamped = detail::storeSmoothingResult(m, arrays, result, q, int(p.at("quality")),
                                                     color, out.colored);
-  out.method = run.method;
-  out.summary = run.summary;
+  out.run = run;
   out.log.push_back(run.summary);
   out.log.insert(out.log.end(), run.details.begin(), run.details.end());
   if (clamped > 0) out.log.push_back(detail::clampedLog(clamped));

@@ -106,9 +106,13 @@ SaliencyBezierSmoothPlugin::applyFilter(const QAction *a, const RichParameterLis
     mm->updateDataMask(MeshModel::MM_VERTCOLOR);
     postConditionMask |= MeshModel::MM_VERTCOLOR;
   }
-  // What PyMeshLab's apply_filter returns: which method ran and the log's summary line.
+  // What PyMeshLab's apply_filter returns (it converts numbers, not strings): the row of the
+  // Method choice that ran (-1: none, the mesh measured as clean), what moved, the noise estimate.
   if (id == FilterId::SaliencyBezierSmooth)
-    return {{"method", QVariant(q(outcome.method))}, {"summary", QVariant(q(outcome.summary))}};
+    return {{"method", QVariant(outcome.run.method_index)},
+            {"vertices_moved", QVariant(int(outcome.run.vertices_moved))},
+            {"mean_displacement", QVariant(outcome.run.mean_displacement_edges)},
+            {"roughness", QVariant(outcome.run.roughness)}};
   return {};
 }
 

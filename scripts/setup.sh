@@ -10,7 +10,7 @@ ml_version="2020.09+dfsg1-2"
 ml_dir="$deps/meshlab-2020.09"
 
 packages=(build-essential cmake dpkg-dev meshlab qtbase5-dev libqt5opengl5-dev libeigen3-dev
-          libglew-dev libgtest-dev xvfb xauth xdotool python3-numpy)
+          libglew-dev libgtest-dev xvfb xauth xdotool imagemagick python3-numpy)
 
 log() { echo "[setup] $*" >&2; }
 

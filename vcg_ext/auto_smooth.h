@@ -123,6 +123,7 @@ inline MethodRun automaticMethod(const MeshArrays &mesh, const MethodParams &p,
   using detail::formatLine;
   if (!r.decided) {
     run.method = "none (clean)";
+    run.roughness = r.feature.roughness;
     run.summary = "Automatic: " + detail::measuredCleanPhrase(r.feature.dihedral_spread_deg,
                                                              params.feature.clean_spread_deg) + ".";
     run.details = detail::featureDetails(r.feature);
@@ -133,16 +134,22 @@ inline MethodRun automaticMethod(const MeshArrays &mesh, const MethodParams &p,
       r.evidence.flat_share, r.evidence.confirmed_share);
   if (r.chose_feature) {
     run.method = "feature-preserving";
+    run.method_index = 3; // methods.h
+    run.roughness = r.feature.roughness;
+    detail::measureMovement(quantities, r.feature.mean_edge_length, run);
     run.summary = "Automatic (sharp features: " + why + ") -> " +
-                  detail::featureSummary(r.feature, params.feature, quantities);
+                  detail::featureSummary(r.feature, params.feature, run, mesh.points.size());
     run.details = detail::featureDetails(r.feature);
     run.details.push_back(formatLine("Time of the decision: shared topology %.3f s, Taubin copy "
                                      "and evidence %.3f s.",
                                      r.seconds_setup, r.seconds_reference));
   } else {
     run.method = "organic";
+    run.method_index = 4; // methods.h
+    run.roughness = r.organic.roughness;
+    detail::measureMovement(quantities, r.organic.mean_edge_length, run);
     run.summary = "Automatic (no sharp features: " + why + ") -> " +
-                  detail::organicSummary(r.organic, params.organic, quantities);
+                  detail::organicSummary(r.organic, params.organic, run, mesh.points.size());
     run.details = detail::organicDetails(r.organic);
     run.details.push_back(formatLine("Time of the decision: shared topology %.3f s, the feature "
                                      "mode's pre-pass and first normal filter iterations %.3f s, "

@@ -66,8 +66,12 @@ struct MethodParams {
 struct MethodRun {
   bool cancelled = false;
   std::string method;
+  int method_index = -1;  // its row in methods.h; -1: none ran (the mesh measured as clean)
   std::string summary;
   std::vector<std::string> details;
+  long vertices_moved = 0;
+  double mean_displacement_edges = 0; // over all vertices, in mean edge lengths
+  double roughness = 0;               // the noise estimate, 0 (clean) .. 1 (noisy); paper: 0
 };
 
 // Called between stages and between blocks of vertices with a percentage; returning false cancels.
@@ -109,15 +113,19 @@ inline std::string formatLine(const char *format, ...) {
   return buffer;
 }
 
-// "6475 of 6475 vertices moved, by 0.21 mean edge lengths on average": what a user checks first.
-inline std::string movedPhrase(const VertexQuantities &q, double mean_edge) {
-  long moved = 0;
+// How far the result moved from the input (MethodRun's vertices_moved, mean_displacement_edges).
+inline void measureMovement(const VertexQuantities &q, double mean_edge, MethodRun &run) {
   double sum = 0;
-  for (double d : q.displacement) moved += d > 0, sum += d;
-  const double mean = q.displacement.empty() || !(mean_edge > 0)
-                          ? 0.0 : sum / double(q.displacement.size()) / mean_edge;
-  return formatLine("%ld of %zu vertices moved, by %.3g mean edge lengths on average", moved,
-                    q.displacement.size(), mean);
+  run.vertices_moved = 0;
+  for (double d : q.displacement) run.vertices_moved += d > 0, sum += d;
+  run.mean_displacement_edges = q.displacement.empty() || !(mean_edge > 0)
+                                    ? 0.0 : sum / double(q.displacement.size()) / mean_edge;
+}
+
+// "6475 of 6475 vertices moved, by 0.21 mean edge lengths on average": what a user checks first.
+inline std::string movedPhrase(const MethodRun &run, size_t vertices) {
+  return formatLine("%ld of %zu vertices moved, by %.3g mean edge lengths on average",
+                    run.vertices_moved, vertices, run.mean_displacement_edges);
 }
 
 // The log line of the vertices a driver could not move.

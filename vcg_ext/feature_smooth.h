@@ -334,14 +334,14 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
 namespace detail {
 
 inline std::string featureSummary(const FeatureSmoothReport &r, const FeatureSmoothParams &p,
-                                  const VertexQuantities &q) {
+                                  const MethodRun &run, size_t vertices) {
   if (r.amount <= 0) return "Feature-preserving: " + measuredCleanPhrase(r.dihedral_spread_deg, p.clean_spread_deg) + ".";
   return formatLine("Feature-preserving: noise estimate %.1f deg dihedral spread (roughness %.2f), "
                     "strength %.2f: %d pre-pass pairs, %d normal filter iterations and %d vertex "
                     "updates per pass, %d passes; ",
                     r.dihedral_spread_deg, r.roughness, p.strength, r.prepass_pairs,
                     r.normal_iterations, r.vertex_iterations, r.outer_iterations_done) +
-         movedPhrase(q, r.mean_edge_length) + ".";
+         movedPhrase(run, vertices) + ".";
 }
 
 inline std::vector<std::string> featureDetails(const FeatureSmoothReport &r) {
@@ -367,7 +367,10 @@ inline MethodRun featureMethod(const MeshArrays &mesh, const MethodParams &p,
   run.cancelled = r.cancelled;
   if (r.cancelled) return run;
   run.method = "feature-preserving";
-  run.summary = detail::featureSummary(r, params, quantities);
+  run.method_index = 3; // methods.h
+  run.roughness = r.roughness;
+  detail::measureMovement(quantities, r.mean_edge_length, run);
+  run.summary = detail::featureSummary(r, params, run, mesh.points.size());
   run.details = detail::featureDetails(r);
   return run;
 }

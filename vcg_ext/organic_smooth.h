@@ -196,13 +196,13 @@ inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
 namespace detail {
 
 inline std::string organicSummary(const OrganicSmoothReport &r, const OrganicSmoothParams &p,
-                                  const VertexQuantities &q) {
+                                  const MethodRun &run, size_t vertices) {
   if (r.amount <= 0) return "Organic: " + measuredCleanPhrase(r.dihedral_spread_deg, p.clean_spread_deg) + ".";
   return formatLine("Organic: noise estimate %.3f mean edge lengths along the normals (dihedral "
                     "spread %.1f deg, roughness %.2f), strength %.2f: removed %.2f of it; ",
                     r.mean_edge_length > 0 ? r.bands.noise_sigma / r.mean_edge_length : 0.0,
                     r.dihedral_spread_deg, r.roughness, p.strength, r.amount) +
-         movedPhrase(q, r.mean_edge_length) + ".";
+         movedPhrase(run, vertices) + ".";
 }
 
 inline std::vector<std::string> organicDetails(const OrganicSmoothReport &r) {
@@ -237,7 +237,10 @@ inline MethodRun organicMethod(const MeshArrays &mesh, const MethodParams &p,
   run.cancelled = r.cancelled;
   if (r.cancelled) return run;
   run.method = "organic";
-  run.summary = detail::organicSummary(r, params, quantities);
+  run.method_index = 4; // methods.h
+  run.roughness = r.roughness;
+  detail::measureMovement(quantities, r.mean_edge_length, run);
+  run.summary = detail::organicSummary(r, params, run, mesh.points.size());
   run.details = detail::organicDetails(r);
   return run;
 }

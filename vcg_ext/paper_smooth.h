@@ -368,10 +368,13 @@ inline MethodRun paperMethod(PlacementMode placement, const MeshArrays &mesh,
   run.cancelled = r.cancelled;
   if (r.cancelled) return run;
   const char *names[] = {"paper (Newton)", "patch point", "ring barycentre"};
+  const int rows[] = {2, 1, 0}; // methods.h
   run.method = names[int(placement)];
+  run.method_index = rows[int(placement)];
+  detail::measureMovement(quantities, r.mean_edge_length, run);
   run.summary = detail::formatLine("Paper's method, %s placement, %d iterations: ",
                                    run.method.c_str(), r.iterations_done) +
-                detail::movedPhrase(quantities, r.mean_edge_length) + ".";
+                detail::movedPhrase(run, mesh.points.size()) + ".";
   using detail::formatLine;
   if (r.frozen_vertices > 0)
     run.details.push_back(formatLine("Skipped (left in place): %ld non-manifold, %ld isolated (in "

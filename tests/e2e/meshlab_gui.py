@@ -205,6 +205,26 @@ class MeshLabGui:
         return {key: int(value) for key, value in
                 (line.split("=") for line in shell.split() if "=" in line) if key != "SCREEN"}
 
+    def grab(self, x, y, width, height):
+        """The screen's pixels in a rectangle as an (height, width, 3) uint8 array."""
+        import numpy as np
+        ppm = subprocess.run(["import", "-window", "root", "-crop", f"{width}x{height}+{x}+{y}",
+                              "+repage", "ppm:-"], env=self.env, check=True, timeout=60,
+                             capture_output=True).stdout
+        # P6 header: magic, width, height, maxval, each followed by one whitespace byte.
+        fields, start = [], 0
+        while len(fields) < 4:
+            end = start
+            while ppm[end:end + 1].isspace():
+                end += 1
+            start = end
+            while not ppm[end:end + 1].isspace():
+                end += 1
+            fields.append(ppm[start:end])
+            start = end
+        w, h = int(fields[1]), int(fields[2])
+        return np.frombuffer(ppm[start + 1:start + 1 + w * h * 3], dtype=np.uint8).reshape(h, w, 3)
+
     def screenshot(self, path, width, height):
         """PNG of the screen's top-left width x height pixels, in 256 colours to stay small."""
         subprocess.run(["import", "-window", "root", "-crop", f"{width}x{height}+0+0", "+repage",
@@ -218,13 +238,15 @@ def main():
     parser.add_argument("--mesh", type=pathlib.Path, required=True)
     parser.add_argument("--filter", default="Saliency Bezier Smooth")
     parser.add_argument("--workdir", type=pathlib.Path, default=None)
+    parser.add_argument("--screen", default="1366x768", help="WIDTHxHEIGHT of the screen")
     args = parser.parse_args()
     plugins = system_plugins()
     plugins["libfilter_saliency_bezier_smooth.so"] = (
         PRIVATE_MESHLAB / "plugins" / "libfilter_saliency_bezier_smooth.so")
     with tempfile.TemporaryDirectory() as tmp:
         workdir = args.workdir or pathlib.Path(tmp)
-        with MeshLabGui(workdir, plugins, args.mesh.resolve(), screen=(1400, 800)) as gui:
+        screen = tuple(int(x) for x in args.screen.split("x"))
+        with MeshLabGui(workdir, plugins, args.mesh.resolve(), screen=screen) as gui:
             title = gui.open_filter_dialog(args.filter)
             if title != args.filter:
                 sys.exit(f"opened {title!r} instead of {args.filter!r}\n{gui.log()}")

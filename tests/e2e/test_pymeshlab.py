@@ -66,6 +66,11 @@ def load(pymeshlab, path):
     return ms
 
 
+def display_percentile(values):
+    """vcg_ext/display_scale.h's 99th percentile: the nearest rank."""
+    return np.sort(values)[int(0.99 * (len(values) - 1) + 0.5)]
+
+
 def bbox_diagonal(points):
     return float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
 
@@ -84,7 +89,7 @@ def test_smoothing_fandisk_with_defaults(pymeshlab, tmp_path, shared):
     case = shared / "data" / "benchmark" / "Fandisk0.3"
     ms = load(pymeshlab, case / "noisy.ply")
     before = ms.current_mesh().vertex_matrix().copy()
-    assert ms.apply_coord_saliency_bezier_smoothing() is None  # the filter returns no values
+    assert ms.apply_coord_saliency_bezier_smoothing()["method"] == 3  # it chose Feature-preserving
     mesh = ms.current_mesh()
     after = mesh.vertex_matrix()
     out = tmp_path / "fandisk_smoothed.ply"
@@ -104,8 +109,11 @@ def test_smoothing_fandisk_with_defaults(pymeshlab, tmp_path, shared):
     # the maximum is 1 and the minimum is >= 0 but not 0 here (measured 0.0043).
     assert saliency.max() == pytest.approx(1.0, abs=1e-6)
     assert saliency.min() >= 0.0
-    # Default "Store in vertex quality": Saliency.
-    np.testing.assert_array_equal(mesh.vertex_scalar_array(), saliency)
+    # Default "Store in vertex quality": Saliency on its display scale (over its 99th percentile,
+    # clipped at 1: vcg_ext/display_scale.h).
+    np.testing.assert_allclose(mesh.vertex_scalar_array(),
+                               np.clip(saliency / display_percentile(saliency), 0, 1),
+                               rtol=0, atol=1e-12)
     for name in ATTRIBUTES + ["Alpha", "Displacement"]:
         assert len(mesh.vertex_custom_scalar_attribute_array(name)) == n
     # Displacement is |new - old|, in double on both sides.
@@ -120,10 +128,10 @@ def test_parameter_names_and_defaults_match_the_2020_script(pymeshlab, shared):
     result; enums also take their label."""
     noisy = shared / "data" / "benchmark" / "Fandisk0.3" / "noisy.ply"
     params = mlx_parameters(REPO / "examples" / "saliency_bezier_smooth.mlx")
-    assert list(params) == ["iterations", "placement", "alpha_override", "alpha",
-                            "uniform_curvature", "boundary", "preserve_volume", "fold_handling",
-                            "newton_iterations",
-                            "newton_step_limit", "saliency_scale", "selected_only", "quality"]
+    assert list(params) == ["color", "placement", "iterations", "alpha_override", "alpha",
+                            "boundary", "preserve_volume", "selected_only", "quality",
+                            "saliency_scale", "fold_handling", "uniform_curvature",
+                            "newton_iterations", "newton_step_limit"]
     defaults = load(pymeshlab, noisy)
     defaults.apply_filter(SMOOTH)
     explicit = load(pymeshlab, noisy)
@@ -147,7 +155,7 @@ def test_parameter_names_and_defaults_match_the_2020_script(pymeshlab, shared):
 def test_analysis_filter_on_clean_fandisk(pymeshlab, shared):
     ms = load(pymeshlab, shared / "data" / "paper" / "fandisk.ply")
     before = ms.current_mesh().vertex_matrix().copy()
-    assert ms.compute_scalar_by_mesh_saliency_per_vertex() is None
+    assert ms.compute_scalar_by_mesh_saliency_per_vertex() is None  # bound methods: None for {}
     mesh = ms.current_mesh()
     np.testing.assert_array_equal(mesh.vertex_matrix(), before)  # positions untouched
     a = {name: mesh.vertex_custom_scalar_attribute_array(name) for name in ATTRIBUTES}
@@ -161,9 +169,14 @@ def test_analysis_filter_on_clean_fandisk(pymeshlab, shared):
     np.testing.assert_allclose(k1[real] * k2[real], k[real], rtol=1e-9, atol=1e-9)
     np.testing.assert_array_equal(k1[~real], h[~real])
     np.testing.assert_array_equal(k2[~real], h[~real])
-    assert a["Saliency"].min() == pytest.approx(0.0, abs=1e-6)
+    assert a["Saliency"].min() >= 0.0
     assert a["Saliency"].max() == pytest.approx(1.0, abs=1e-6)
-    np.testing.assert_array_equal(mesh.vertex_scalar_array(), a["Saliency"])
+    np.testing.assert_allclose(mesh.vertex_scalar_array(),
+                               np.clip(a["Saliency"] / display_percentile(a["Saliency"]), 0, 1),
+                               rtol=0, atol=1e-12)
+    # "Colour the mesh" is on by default here: colours from red (low) to blue (high).
+    colours = mesh.vertex_color_matrix()
+    assert len(np.unique(colours[:, :3].round(3), axis=0)) > 50
     # The curvature-direction requirement (MM_VERTCURVDIR) made PyMeshLab enable the component.
     d1 = mesh.vertex_curvature_principal_dir1_matrix()
     d2 = mesh.vertex_curvature_principal_dir2_matrix()
@@ -171,9 +184,10 @@ def test_analysis_filter_on_clean_fandisk(pymeshlab, shared):
     np.testing.assert_allclose(np.linalg.norm(d2, axis=1), 1.0, atol=1e-9)
     assert np.abs(np.sum(d1 * d2, axis=1)).max() < 1e-9
 
-    # The quality choice by label: K1 into vertex quality.
+    # The quality choice by label: K1 into vertex quality, on the signed log scale.
     ms.apply_filter(ANALYSE, saliency_scale=0.3, quality="K1")
-    np.testing.assert_array_equal(ms.current_mesh().vertex_scalar_array(), k1)
+    np.testing.assert_allclose(ms.current_mesh().vertex_scalar_array(),
+                               np.arcsinh(k1 / np.median(np.abs(k1))), rtol=1e-12, atol=1e-12)
 
 
 def test_wrong_parameter_name_is_reported(pymeshlab, shared):
@@ -193,7 +207,7 @@ def test_wrong_types_raise_without_crashing(pymeshlab, shared):
     apply_expecting_error(pymeshlab, ms, SMOOTH, RuntimeError, iterations=2.5)
     message = apply_expecting_error(pymeshlab, ms, SMOOTH, pymeshlab.InvalidEnumException,
                                     placement="Newton")
-    assert "'Ring barycentre'; 'Patch point'; 'Paper (Newton)'" in message
+    assert "'Ring barycentre'; 'Patch point'; 'Paper (Newton)'; 'Feature-preserving'" in message
     np.testing.assert_array_equal(ms.current_mesh().vertex_matrix(), before)
 
 
@@ -271,8 +285,8 @@ def test_float_2020_and_double_2025_agree(pymeshlab, tmp_path, shared):
     difference = np.linalg.norm(mesh.vertex_matrix() - float_result, axis=1).max() / diagonal
     print(f"float vs double smoothing: max |difference| / bbox diagonal = {difference:.3g}")
     assert difference < 1e-6
-    saliency = np.asarray(vertices["quality"], dtype=float)
-    assert np.abs(mesh.vertex_custom_scalar_attribute_array("Saliency") - saliency).max() < 1e-6
+    quality = np.asarray(vertices["quality"], dtype=float)
+    assert np.abs(mesh.vertex_scalar_array() - quality).max() < 1e-6
 
     clean = shared / "data" / "paper" / "fandisk.ply"
     out = tmp_path / "meshlabserver_saliency.ply"
@@ -282,8 +296,7 @@ def test_float_2020_and_double_2025_agree(pymeshlab, tmp_path, shared):
     ms = load(pymeshlab, clean)
     ms.apply_filter(ANALYSE)
     quality = np.asarray(read_ply(out)[0]["quality"], dtype=float)
-    assert np.abs(ms.current_mesh().vertex_custom_scalar_attribute_array("Saliency")
-                  - quality).max() < 1e-6
+    assert np.abs(ms.current_mesh().vertex_scalar_array() - quality).max() < 1e-6
 
 
 def test_example_script_runs(shared):
@@ -322,7 +335,7 @@ def test_organic_mode_on_random_noise_in_both_generations(pymeshlab, tmp_path, s
 
     ms = load(pymeshlab, noisy)
     diagonal = bbox_diagonal(ms.current_mesh().vertex_matrix())
-    ms.apply_filter(SMOOTH, placement="Organic scan (band shrinkage)")
+    ms.apply_filter(SMOOTH, placement="Organic scan")
     mesh = ms.current_mesh()
     np.testing.assert_array_equal(mesh.face_matrix(), faces)
     difference = np.linalg.norm(mesh.vertex_matrix() - float_result, axis=1).max() / diagonal
@@ -331,3 +344,81 @@ def test_organic_mode_on_random_noise_in_both_generations(pymeshlab, tmp_path, s
     double_result = tmp_path / "pymeshlab_organic.ply"
     ms.save_current_mesh(str(double_result))
     assert abs(mesh_compare(double_result, clean)["theta_deg"] - after["theta_deg"]) < 0.05
+
+
+# Every parameter of the dialog, a value other than its default, and what it changes in the
+# default (Automatic) method's result on the noisy Fandisk (closed) or the paper's noisy mountain
+# (open: the boundary rule). The paper's-method parameters leave the default method's result as it
+# is (they belong to the methods their labels name; tests/unit/test_methods.cpp shows they act
+# there).
+PARAMETER_EFFECTS = [
+    # name, value, mesh, what changes in the default method's result
+    ("color", True, "fandisk", "colours"),
+    ("placement", "Organic scan", "fandisk", "positions"),
+    ("iterations", 6, "fandisk", "positions"),
+    ("alpha_override", False, "fandisk", "positions"),
+    ("alpha", 0.5, "fandisk", "positions"),
+    ("boundary", "Fixed", "mountain", "positions"),
+    ("preserve_volume", False, "fandisk", "positions"),
+    ("selected_only", True, "fandisk", "positions"),
+    ("quality", "Mean curvature", "fandisk", "quality"),
+    ("saliency_scale", 1.0, "fandisk", "quality"),
+    ("fold_handling", "Paper fallbacks", "fandisk", "nothing"),
+    ("uniform_curvature", "Paper", "fandisk", "nothing"),
+    ("newton_iterations", 5, "fandisk", "nothing"),
+    ("newton_step_limit", 0.5, "fandisk", "nothing"),
+]
+
+
+def smoothed_state(pymeshlab, shared, mesh, **params):
+    path = {"fandisk": shared / "data" / "benchmark" / "Fandisk0.3" / "noisy.ply",
+            "mountain": shared / "data" / "paper" / "mountain_noisy0.2.ply"}[mesh]
+    ms = load(pymeshlab, path)
+    if params.get("selected_only"):
+        ms.compute_selection_by_condition_per_vertex(condselect="x > 0")
+    else:
+        ms.set_selection_none()
+    result = ms.apply_filter(SMOOTH, **params)
+    m = ms.current_mesh()
+    return {"positions": m.vertex_matrix().copy(), "quality": m.vertex_scalar_array().copy(),
+            "colours": m.vertex_color_matrix().copy(), "result": result}
+
+
+def test_every_dialog_parameter_is_covered():
+    names = [name for name, *_ in PARAMETER_EFFECTS]
+    mlx = ElementTree.parse(REPO / "examples" / "saliency_bezier_smooth.mlx")
+    assert names == [p.get("name") for p in mlx.iter("Param")]
+
+
+@pytest.mark.parametrize("name,value,mesh,effect", PARAMETER_EFFECTS,
+                         ids=[p[0] for p in PARAMETER_EFFECTS])
+def test_each_parameter_in_the_default_method(pymeshlab, shared, name, value, mesh, effect):
+    default = smoothed_state(pymeshlab, shared, mesh)
+    changed = smoothed_state(pymeshlab, shared, mesh, **{name: value})
+    differs = {key: not np.array_equal(default[key], changed[key])
+               for key in ("positions", "quality", "colours")}
+    if effect == "nothing":
+        assert not any(differs.values()), differs
+    else:
+        assert differs[effect], differs
+    if name == "selected_only":  # only the selected half moved
+        start = load(pymeshlab, shared / "data" / "benchmark" / "Fandisk0.3" / "noisy.ply")
+        original = start.current_mesh().vertex_matrix()
+        moved = np.any(changed["positions"] != original, axis=1)
+        assert moved.any() and not moved[original[:, 0] <= 0].any()
+
+
+def test_smoothing_returns_the_method_that_ran(pymeshlab, shared):
+    """apply_filter returns the Method row that ran (the automatic one's choice), how far the mesh
+    moved and the noise estimate (PyMeshLab converts numbers, not strings)."""
+    state = smoothed_state(pymeshlab, shared, "fandisk")
+    result = state["result"]
+    assert result["method"] == 3  # Feature-preserving
+    assert result["vertices_moved"] == 6475
+    assert result["roughness"] == 1.0
+    assert 0.1 < result["mean_displacement"] < 0.5
+    assert smoothed_state(pymeshlab, shared, "fandisk", placement="Organic scan")["result"][
+        "method"] == 4
+    clean = load(pymeshlab, shared / "data" / "benchmark" / "Fandisk0.3" / "clean.ply")
+    assert clean.apply_filter(SMOOTH) == {"method": -1, "vertices_moved": 0,
+                                          "mean_displacement": 0.0, "roughness": 0.0}
