@@ -1,0 +1,170 @@
+// Whether a mesh is noisy, and how much noise it carries, from the mesh alone.
+//
+// Inputs: positions and triangles (plain arrays, mesh_arrays.h). Output: a NoiseEstimate: the
+// decision (noisy / clean), the noise level in mean edge lengths and the figures it came from.
+// Papers: Taubin 1995 (λ|μ smoothing as a low-pass filter); the dihedral spread of
+// normal_filter.h; the white-noise probe of band_shrink.h.
+//
+// Why not the dihedral spread alone: it reads the roughness of the surface at the scale of one
+// edge, and a coarse clean mesh is as rough there as a fine scan with noise (clean elephant 31.7°,
+// cow 31.8°; the real scans 14–26°). What tells them apart is what one Taubin pair does to it:
+// noise lives at the highest frequencies, which a pair damps, while shape — however coarse the
+// mesh — lies below Taubin's pass band and stays. So the decision is on the spread's decay:
+// spread after one pair over spread before (clean meshes 0.86–1.0 and up on CAD parts, where the
+// pair rounds creases; white noise of 0.05–0.1 mean edge lengths 0.65–0.80 on fine meshes, the three
+// real scans 0.67–0.74), with a floor on the spread it removed (degrees) so that nearly flat meshes,
+// whose spread is a ratio of two small numbers, do not decide on it. A spread above
+// `noisy_spread_deg` (the feature mode's "fully noisy" threshold) is noisy whatever its decay.
+//
+// The level: the median normal displacement that the first Taubin pair takes out, over the same
+// median of a white-noise probe run through the same pair (so it reads σ for white noise of std σ
+// along the normals, whatever the mesh's valences and boundaries). The same ratio per Taubin band
+// (pairs 0–1, 1–2, 2–4, 4–8) gives a white-equivalent spectrum: flat for white noise, rising for
+// noise correlated over several rings (and for shape). Medians make both robust to a few outliers
+// and to creases; boundary, non-manifold and isolated vertices are left out.
+//
+// Scale: every length is in mean edge lengths (positions are shifted to the bounding box corner and
+// divided by the mean edge length first). Order: the probe's values hash each vertex's position
+// (band_shrink.h), every quantity is per vertex or per face, then a median: the result does not
+// depend on vertex order or thread count, up to the rounding of the neighbour sums.
+#pragma once
+
+#include "band_shrink.h"
+#include "smooth.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace vcg_ext {
+
+struct NoiseEstimateParams {
+  double lambda = 0.5, mu = -0.53;  // one Taubin pair, as MeshLab's Taubin filter
+  // Decision: noisy when one pair leaves at most `max_decay` of the spread and removes at least
+  // `min_drop_deg` of it, or when the spread reaches `noisy_spread_deg`. Fitted on half of the
+  // meshes of bench/NOISE_ESTIMATE.md (python3 bench/noise_estimate.py), checked on the other half.
+  double max_decay = 0.84;
+  double min_drop_deg = 1.5;
+  double noisy_spread_deg = 50.0;
+  // Band edges in Taubin pairs of the white-equivalent spectrum.
+  std::vector<int> band_pairs = {0, 1, 2, 4, 8};
+};
+
+struct NoiseEstimate {
+  bool noisy = false;
+  double level = 0;              // white-equivalent noise std along the normals, mean edge lengths
+  std::vector<double> spectrum;  // the same per band of `band_pairs` (level = spectrum[0])
+  double spread_deg = 0;         // median dihedral spread of the input (normal_filter.h)
+  double smoothed_spread_deg = 0; // the same after one Taubin pair
+  double decay = 1;              // smoothed_spread_deg / spread_deg (1 when the spread is 0)
+  double mean_edge_length = 0;
+  long counted_vertices = 0;     // interior, manifold vertices the medians ran over
+};
+
+namespace detail {
+
+inline double medianOf(std::vector<double> &values) {
+  if (values.empty()) return 0.0;
+  auto middle = values.begin() + values.size() / 2;
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+// Median dihedral spread of `points` (a FaceRings built once, shared by the calls).
+inline double spreadOf(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                       const FaceRings &face_rings) {
+  FaceGeometry geometry;
+  computeFaceGeometry(points, faces, geometry);
+  return medianDihedralSpreadDeg(points, faces, geometry, face_rings);
+}
+
+} // namespace detail
+
+// Measures `points` / `faces` (see the file comment). Empty or degenerate input: clean, level 0.
+inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                   const NoiseEstimateParams &params = {}) {
+  NoiseEstimate out;
+  const int n = int(points.size());
+  if (n == 0 || faces.empty()) return out;
+  for (const Face &f : faces)
+    for (int k = 0; k < 3; ++k)
+      if (f[k] < 0 || f[k] >= n) return out;
+  MeshArrays mesh;
+  mesh.faces = faces;
+  const Rings rings = computeRings(n, faces);
+  const double edge = edgeStatistics(points, rings).mean_edge_length;
+  out.mean_edge_length = edge;
+  if (!(edge > 0) || !std::isfinite(edge)) return out;
+
+  // Positions in mean edge lengths from the lowest corner of the faces' vertices.
+  Vec3 lowest = Vec3::Constant(INFINITY);
+  for (int v = 0; v < n; ++v)
+    if (rings.ring1Size(v) > 0) lowest = lowest.cwiseMin(points[v]);
+  mesh.points.resize(n);
+  for (int v = 0; v < n; ++v)
+    mesh.points[v] = rings.ring1Size(v) > 0 ? Vec3((points[v] - lowest) / edge) : Vec3::Zero();
+  const detail::VertexRoles roles = detail::vertexRoles(mesh, rings, 1.0);
+  const FaceRings face_rings = computeFaceRings(faces, rings);
+
+  // The decision: the spread before and after one pair.
+  std::vector<Vec3> smoothed = mesh.points;
+  taubinSmooth(smoothed, rings, roles.frozen, roles.boundary_neighbours, 1, params.lambda, params.mu);
+  out.spread_deg = detail::spreadOf(mesh.points, faces, face_rings);
+  out.smoothed_spread_deg = detail::spreadOf(smoothed, faces, face_rings);
+  out.decay = out.spread_deg > 0 ? out.smoothed_spread_deg / out.spread_deg : 1.0;
+  out.noisy = out.spread_deg >= params.noisy_spread_deg ||
+              (out.decay <= params.max_decay &&
+               out.spread_deg - out.smoothed_spread_deg >= params.min_drop_deg);
+
+  // The spectrum: the mesh's Taubin bands along the normals of its last snapshot, against a
+  // hashed white-noise probe (unit std per component) through the same steps.
+  const std::vector<int> &edges = params.band_pairs;
+  const int bands = int(edges.size()) - 1;
+  if (bands < 1) return out;
+  std::vector<Vec3> probe(n);
+  for (int v = 0; v < n; ++v)
+    probe[v] = detail::positionHashedGaussian(
+        Vec3((mesh.points[v] * 16.0).array().floor()), 0x4e6f697365ull); // cells of 1/16 edge
+  std::vector<std::uint8_t> counted(n);
+  for (int v = 0; v < n; ++v)
+    counted[v] = !roles.frozen[v] && !rings.boundary[v] && rings.ring1Size(v) > 0;
+  std::vector<std::vector<Vec3>> snapshot(bands + 1), probe_snapshot(bands + 1);
+  snapshot[0] = mesh.points;
+  probe_snapshot[0] = probe;
+  taubinSmooth(snapshot[0], rings, roles.frozen, roles.boundary_neighbours, edges[0],
+               params.lambda, params.mu);
+  taubinSmooth(probe_snapshot[0], rings, roles.frozen, roles.boundary_neighbours, edges[0],
+               params.lambda, params.mu);
+  for (int b = 0; b < bands; ++b) {
+    snapshot[b + 1] = snapshot[b];
+    probe_snapshot[b + 1] = probe_snapshot[b];
+    const int pairs = std::max(0, edges[b + 1] - edges[b]);
+    taubinSmooth(snapshot[b + 1], rings, roles.frozen, roles.boundary_neighbours, pairs,
+                 params.lambda, params.mu);
+    taubinSmooth(probe_snapshot[b + 1], rings, roles.frozen, roles.boundary_neighbours, pairs,
+                 params.lambda, params.mu);
+  }
+  std::vector<Vec3> normals;
+  computeVertexNormals(snapshot[bands], faces, rings, normals);
+  std::vector<double> along, noise;
+  out.spectrum.assign(bands, 0.0);
+  for (int b = 0; b < bands; ++b) {
+    along.clear();
+    noise.clear();
+    for (int v = 0; v < n; ++v) {
+      if (!counted[v] || normals[v].squaredNorm() == 0) continue;
+      const double d = (snapshot[b][v] - snapshot[b + 1][v]).dot(normals[v]);
+      if (!std::isfinite(d)) continue;
+      along.push_back(std::abs(d));
+      const Vec3 p = probe_snapshot[b][v] - probe_snapshot[b + 1][v];
+      for (int k = 0; k < 3; ++k) noise.push_back(std::abs(p[k]));
+    }
+    if (b == 0) out.counted_vertices = long(along.size());
+    const double probe_median = detail::medianOf(noise);
+    out.spectrum[b] = probe_median > 0 ? detail::medianOf(along) / probe_median : 0.0;
+  }
+  out.level = out.spectrum[0];
+  return out;
+}
+
+} // namespace vcg_ext
