@@ -124,8 +124,7 @@ inline MethodRun automaticMethod(const MeshArrays &mesh, const MethodParams &p,
   if (!r.decided) {
     run.method = "none (clean)";
     run.roughness = r.feature.roughness;
-    run.summary = "Automatic: " + detail::measuredCleanPhrase(r.feature.dihedral_spread_deg,
-                                                             params.feature.clean_spread_deg) + ".";
+    run.summary = "Automatic: " + detail::measuredCleanPhrase(r.feature.noise) + ".";
     run.details = detail::featureDetails(r.feature);
     return run;
   }

@@ -11,6 +11,7 @@
 
 #include "face_patches.h"
 #include "mesh_metrics.h"
+#include "noise_estimate.h"
 #include "normal_filter.h"
 #include "spatial_order.h"
 #include "surface_analysis.h"
@@ -163,46 +164,20 @@ void readCommonParams(const MethodParams &p, DriverParams &d) {
 }
 
 // What a user reads when a driver finds nothing to do.
-inline std::string measuredCleanPhrase(double spread_deg, double clean_spread_deg) {
-  return formatLine("the mesh measures as clean (dihedral spread %.1f deg, noise from %.0f deg): "
-                    "left as it is; set Iterations above 3 to smooth it anyway",
-                    spread_deg, clean_spread_deg);
+inline std::string measuredCleanPhrase(const NoiseEstimate &noise) {
+  return formatLine("the mesh measures as clean (dihedral spread %.1f deg, %.2f of it left after "
+                    "one Taubin pair; noise leaves at most %.2f): left as it is; set Iterations "
+                    "above 3 to smooth it anyway",
+                    noise.spread_deg, noise.decay, NoiseEstimateParams().max_decay);
 }
 
-// Per run: which vertices may move and, on the boundary, their two boundary neighbours.
-struct VertexRoles {
-  std::vector<std::uint8_t> frozen;
-  std::vector<std::array<int, 2>> boundary_neighbours; // -1 where absent
-};
-
-inline VertexRoles vertexRoles(const MeshArrays &mesh, const Rings &rings, double edge) {
-  VertexRoles roles;
-  const int n = rings.vertex_count;
-  roles.frozen.assign(n, 0);
-  roles.boundary_neighbours.assign(n, {-1, -1});
-  const double min_area = 1e-12 * edge * edge;
-  for (const Face &f : mesh.faces) {
-    const Vec3 &a = mesh.points[f[0]], &b = mesh.points[f[1]], &c = mesh.points[f[2]];
-    if (!(0.5 * (b - a).cross(c - a).norm() > min_area) || f[0] == f[1] || f[1] == f[2] ||
-        f[0] == f[2])
-      roles.frozen[f[0]] = roles.frozen[f[1]] = roles.frozen[f[2]] = 1;
-  }
-  for (int v = 0; v < n; ++v) {
-    if (rings.nonmanifold[v] || rings.isolated[v]) roles.frozen[v] = 1;
-    if (!rings.boundary[v]) continue;
-    // A boundary edge (v, w) lies in exactly one of v's faces.
-    int found = 0;
-    for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v) && found < 2; ++w) {
-      int shared = 0;
-      for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) {
-        const Face &t = mesh.faces[*f];
-        shared += (t[0] == *w || t[1] == *w || t[2] == *w);
-      }
-      if (shared == 1) roles.boundary_neighbours[v][found++] = *w;
-    }
-  }
-  return roles;
+// The noise estimate in the summary lines.
+inline std::string noisePhrase(const NoiseEstimate &noise, double roughness) {
+  return formatLine("noise estimate: dihedral spread %.1f deg (%.2f of it left after one Taubin "
+                    "pair), level %.3f mean edge lengths, roughness %.2f",
+                    noise.spread_deg, noise.decay, noise.level, roughness);
 }
+
 
 // Applies the boundary mode to a boundary vertex's proposed position.
 inline Vec3 constrainBoundaryMove(int i, const Vec3 &moved, const std::vector<Vec3> &current,
@@ -280,7 +255,8 @@ inline long describeResult(const std::vector<Vec3> &input, const std::vector<Vec
 
 // What the drivers set up once per run: topology, which vertices may move (not frozen, selected
 // when only the selection is smoothed, not on the boundary when the boundary is fixed), and the
-// input's enclosed volume. The face rings only for the drivers that filter face normals.
+// input's enclosed volume. The face rings and the noise estimate only for the measured methods
+// (the drivers that filter face normals).
 struct DriverSetup {
   Rings rings;
   EdgeStatistics stats;
@@ -290,6 +266,7 @@ struct DriverSetup {
   long frozen_vertices = 0, boundary_vertices = 0; // boundary: the movable ones
   bool closed = false;
   double volume_before = 0;
+  NoiseEstimate noise; // the measured methods' noise estimate (noise_estimate.h)
 };
 
 inline DriverSetup driverSetup(const MeshArrays &mesh, bool selected_only,
@@ -310,6 +287,8 @@ inline DriverSetup driverSetup(const MeshArrays &mesh, bool selected_only,
     s.boundary_vertices += s.rings.boundary[v] && !s.fixed[v];
   }
   s.volume_before = signedVolume(mesh.points, mesh.faces);
+  if (with_face_rings)
+    s.noise = estimateNoise(mesh.points, mesh.faces, s.rings, s.face_rings, s.roles);
   return s;
 }
 
@@ -318,6 +297,18 @@ inline DriverSetup driverSetup(const MeshArrays &mesh, bool selected_only,
 inline double roughnessOf(double spread_deg, double clean_spread_deg, double noisy_spread_deg) {
   return std::clamp((spread_deg - clean_spread_deg) / (noisy_spread_deg - clean_spread_deg), 0.0,
                     1.0);
+}
+
+// The measured methods' need for smoothing, 0 (clean) .. 1 (noisy): 0 where the noise estimate
+// reads clean (noise_estimate.h: the dihedral spread barely decays under one Taubin pair); else
+// the larger of the dihedral spread's roughness (roughnessOf) and the noise level over a tenth of
+// an edge length. The spread alone took real scans for clean (14-26 deg, like coarse clean
+// meshes); its decay tells them apart (bench/NOISE_ESTIMATE.md).
+inline double measuredRoughness(const NoiseEstimate &noise, double spread_deg,
+                                double clean_spread_deg, double noisy_spread_deg) {
+  if (!noise.noisy) return 0.0;
+  return std::max(roughnessOf(spread_deg, clean_spread_deg, noisy_spread_deg),
+                  std::min(1.0, noise.level / 0.1));
 }
 
 // How much a driver smooths: the measured need (0 = clean .. 1 = noisy) times the user's

@@ -76,6 +76,7 @@ struct FeatureSmoothReport {
   long plane_fallbacks = 0;     // (over all passes) patch fits that fell back to the face's plane
   long rejected_moves = 0;      // non-finite positions: vertex kept
   double dihedral_spread_deg = 0; // of the input: the noise estimate
+  NoiseEstimate noise;            // of the input (noise_estimate.h)
   double roughness = 0;           // 0 (clean) .. 1 (noisy), from the noise estimate
   double amount = 0;              // the roughness with the user's strength: what scales the passes
   int prepass_pairs = 0;          // Taubin pairs actually run
@@ -169,19 +170,22 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   t = clock::now();
   FaceGeometry geometry;
   computeFaceGeometry(current, mesh.faces, geometry);
-  // How much smoothing the mesh needs, from its noise estimate (the median spread of the signed
-  // dihedral angles around a face): none up to `clean_spread_deg`, all from `noisy_spread_deg`,
-  // linearly in between. Measured: clean meshes 0 (CAD models), ~10 (bunny, lion head,
+  // How much smoothing the mesh needs (measuredRoughness): nothing where the noise estimate reads
+  // clean (noise_estimate.h); else from the median spread of the signed dihedral angles around a
+  // face, none up to `clean_spread_deg`, all from `noisy_spread_deg`, linearly in between, or
+  // from the noise level, whichever is larger. Measured: clean meshes 0 (CAD models), ~10 (bunny, lion head,
   // SharpSphere), 23 and 31 (the coarse armadillo and elephant); noise along the normals of
   // 0.05 / 0.1 / 0.15 / 0.2 / 0.3 mean edge lengths 12-15 / 23-29 / 34-42 / 44-53 / 62-72; the
   // public benchmark's noisy meshes 52-81. It scales every pass count: the pre-pass rounds creases
   // that the rest only partly restores (a clean box ends at 1.1° instead of 0.3°), and even one
   // filter iteration followed by the vertex updates flattens a coarse organic mesh (clean
-  // armadillo: 11°; clean elephant at r = 0.3: 11°). The price: noise below ~0.12 mean edge
-  // lengths is left as it is.
+  // armadillo: 11°; clean elephant at r = 0.3: 11°), hence the estimate's clean/noisy decision
+  // first: light noise and real scans' noise (spread 14-26°) are smoothed, coarse clean meshes
+  // (23-31°) are not.
   report.dihedral_spread_deg = medianDihedralSpreadDeg(current, mesh.faces, geometry, face_rings);
-  report.roughness = detail::roughnessOf(report.dihedral_spread_deg, params.clean_spread_deg,
-                                         params.noisy_spread_deg);
+  report.noise = setup.noise;
+  report.roughness = detail::measuredRoughness(setup.noise, report.dihedral_spread_deg,
+                                               params.clean_spread_deg, params.noisy_spread_deg);
   report.amount = detail::strengthen(report.roughness, params.strength);
   report.prepass_pairs = int(std::lround(report.amount * std::max(0, params.prepass_pairs)));
   NormalFilterParams normal_filter = params.normals;
@@ -335,12 +339,12 @@ namespace detail {
 
 inline std::string featureSummary(const FeatureSmoothReport &r, const FeatureSmoothParams &p,
                                   const MethodRun &run, size_t vertices) {
-  if (r.amount <= 0) return "Feature-preserving: " + measuredCleanPhrase(r.dihedral_spread_deg, p.clean_spread_deg) + ".";
-  return formatLine("Feature-preserving: noise estimate %.1f deg dihedral spread (roughness %.2f), "
-                    "strength %.2f: %d pre-pass pairs, %d normal filter iterations and %d vertex "
+  if (r.amount <= 0) return "Feature-preserving: " + measuredCleanPhrase(r.noise) + ".";
+  return "Feature-preserving: " + noisePhrase(r.noise, r.roughness) +
+         formatLine("; strength %.2f: %d pre-pass pairs, %d normal filter iterations and %d vertex "
                     "updates per pass, %d passes; ",
-                    r.dihedral_spread_deg, r.roughness, p.strength, r.prepass_pairs,
-                    r.normal_iterations, r.vertex_iterations, r.outer_iterations_done) +
+                    p.strength, r.prepass_pairs, r.normal_iterations, r.vertex_iterations,
+                    r.outer_iterations_done) +
          movedPhrase(run, vertices) + ".";
 }
 

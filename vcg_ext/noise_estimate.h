@@ -30,7 +30,8 @@
 #pragma once
 
 #include "band_shrink.h"
-#include "smooth.h"
+#include "normal_filter.h"
+#include "vertex_roles.h"
 
 #include <algorithm>
 #include <cmath>
@@ -82,31 +83,27 @@ inline double spreadOf(const std::vector<Vec3> &points, const std::vector<Face> 
 
 } // namespace detail
 
-// Measures `points` / `faces` (see the file comment). Empty or degenerate input: clean, level 0.
+// Measures `points` / `faces` with their topology (the drivers' DriverSetup has it): see the file
+// comment. Empty or degenerate input: clean, level 0.
 inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                   const Rings &rings, const FaceRings &face_rings,
+                                   const detail::VertexRoles &roles,
                                    const NoiseEstimateParams &params = {}) {
   NoiseEstimate out;
   const int n = int(points.size());
   if (n == 0 || faces.empty()) return out;
-  for (const Face &f : faces)
-    for (int k = 0; k < 3; ++k)
-      if (f[k] < 0 || f[k] >= n) return out;
-  MeshArrays mesh;
-  mesh.faces = faces;
-  const Rings rings = computeRings(n, faces);
   const double edge = edgeStatistics(points, rings).mean_edge_length;
   out.mean_edge_length = edge;
   if (!(edge > 0) || !std::isfinite(edge)) return out;
 
   // Positions in mean edge lengths from the lowest corner of the faces' vertices.
+  MeshArrays mesh;
   Vec3 lowest = Vec3::Constant(INFINITY);
   for (int v = 0; v < n; ++v)
     if (rings.ring1Size(v) > 0) lowest = lowest.cwiseMin(points[v]);
   mesh.points.resize(n);
   for (int v = 0; v < n; ++v)
     mesh.points[v] = rings.ring1Size(v) > 0 ? Vec3((points[v] - lowest) / edge) : Vec3::Zero();
-  const detail::VertexRoles roles = detail::vertexRoles(mesh, rings, 1.0);
-  const FaceRings face_rings = computeFaceRings(faces, rings);
 
   // The decision: the spread before and after one pair.
   std::vector<Vec3> smoothed = mesh.points;
@@ -131,43 +128,66 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
   std::vector<std::uint8_t> counted(n);
   for (int v = 0; v < n; ++v)
     counted[v] = !roles.frozen[v] && !rings.boundary[v] && rings.ring1Size(v) > 0;
-  std::vector<std::vector<Vec3>> snapshot(bands + 1), probe_snapshot(bands + 1);
-  snapshot[0] = mesh.points;
-  probe_snapshot[0] = probe;
-  taubinSmooth(snapshot[0], rings, roles.frozen, roles.boundary_neighbours, edges[0],
-               params.lambda, params.mu);
-  taubinSmooth(probe_snapshot[0], rings, roles.frozen, roles.boundary_neighbours, edges[0],
-               params.lambda, params.mu);
-  for (int b = 0; b < bands; ++b) {
-    snapshot[b + 1] = snapshot[b];
-    probe_snapshot[b + 1] = probe_snapshot[b];
-    const int pairs = std::max(0, edges[b + 1] - edges[b]);
-    taubinSmooth(snapshot[b + 1], rings, roles.frozen, roles.boundary_neighbours, pairs,
-                 params.lambda, params.mu);
-    taubinSmooth(probe_snapshot[b + 1], rings, roles.frozen, roles.boundary_neighbours, pairs,
-                 params.lambda, params.mu);
-  }
+  // Band displacements are taken along the normals of the last band's snapshot; snapshots roll,
+  // so that two copies of the mesh and of the probe are alive at a time, not one per band.
   std::vector<Vec3> normals;
-  computeVertexNormals(snapshot[bands], faces, rings, normals);
+  {
+    std::vector<Vec3> last = mesh.points;
+    taubinSmooth(last, rings, roles.frozen, roles.boundary_neighbours, std::max(0, edges[bands]),
+                 params.lambda, params.mu);
+    computeVertexNormals(last, faces, rings, normals);
+  }
+  std::vector<Vec3> current = mesh.points, next;
+  std::vector<Vec3> probe_current = std::move(probe), probe_next;
+  taubinSmooth(current, rings, roles.frozen, roles.boundary_neighbours, edges[0], params.lambda,
+               params.mu);
+  taubinSmooth(probe_current, rings, roles.frozen, roles.boundary_neighbours, edges[0],
+               params.lambda, params.mu);
   std::vector<double> along, noise;
   out.spectrum.assign(bands, 0.0);
   for (int b = 0; b < bands; ++b) {
+    next = current;
+    probe_next = probe_current;
+    const int pairs = std::max(0, edges[b + 1] - edges[b]);
+    taubinSmooth(next, rings, roles.frozen, roles.boundary_neighbours, pairs, params.lambda,
+                 params.mu);
+    taubinSmooth(probe_next, rings, roles.frozen, roles.boundary_neighbours, pairs, params.lambda,
+                 params.mu);
     along.clear();
     noise.clear();
     for (int v = 0; v < n; ++v) {
       if (!counted[v] || normals[v].squaredNorm() == 0) continue;
-      const double d = (snapshot[b][v] - snapshot[b + 1][v]).dot(normals[v]);
+      const double d = (current[v] - next[v]).dot(normals[v]);
       if (!std::isfinite(d)) continue;
       along.push_back(std::abs(d));
-      const Vec3 p = probe_snapshot[b][v] - probe_snapshot[b + 1][v];
+      const Vec3 p = probe_current[v] - probe_next[v];
       for (int k = 0; k < 3; ++k) noise.push_back(std::abs(p[k]));
     }
     if (b == 0) out.counted_vertices = long(along.size());
     const double probe_median = detail::medianOf(noise);
     out.spectrum[b] = probe_median > 0 ? detail::medianOf(along) / probe_median : 0.0;
+    current.swap(next);
+    probe_current.swap(probe_next);
   }
   out.level = out.spectrum[0];
   return out;
+}
+
+// The same, building the topology itself.
+inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                   const NoiseEstimateParams &params = {}) {
+  const int n = int(points.size());
+  if (n == 0 || faces.empty()) return {};
+  for (const Face &f : faces)
+    for (int k = 0; k < 3; ++k)
+      if (f[k] < 0 || f[k] >= n) return {};
+  const Rings rings = computeRings(n, faces);
+  MeshArrays mesh;
+  mesh.points = points;
+  mesh.faces = faces;
+  const detail::VertexRoles roles =
+      detail::vertexRoles(mesh, rings, edgeStatistics(points, rings).mean_edge_length);
+  return estimateNoise(points, faces, rings, computeFaceRings(faces, rings), roles, params);
 }
 
 } // namespace vcg_ext

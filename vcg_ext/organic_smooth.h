@@ -52,6 +52,7 @@ struct OrganicSmoothReport {
   int patch_updates = 0;
   double patch_step = 0;   // fraction of the way onto the patches per update
   double dihedral_spread_deg = 0, roughness = 0;
+  NoiseEstimate noise; // of the input (noise_estimate.h)
   double amount = 0; // the share of the measured noise level removed, with the user's strength
   BandShrinkReport bands;
   double volume_before = 0, volume_after = 0;
@@ -96,8 +97,9 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   computeFaceGeometry(mesh.points, mesh.faces, geometry);
   report.dihedral_spread_deg =
       medianDihedralSpreadDeg(mesh.points, mesh.faces, geometry, setup.face_rings);
-  report.roughness = detail::roughnessOf(report.dihedral_spread_deg, params.clean_spread_deg,
-                                         params.noisy_spread_deg);
+  report.noise = setup.noise;
+  report.roughness = detail::measuredRoughness(setup.noise, report.dihedral_spread_deg,
+                                               params.clean_spread_deg, params.noisy_spread_deg);
   report.seconds_topology = seconds(t);
   if (progress && !progress(5, "Noise estimate")) return report.cancelled = true, report;
 
@@ -197,11 +199,12 @@ namespace detail {
 
 inline std::string organicSummary(const OrganicSmoothReport &r, const OrganicSmoothParams &p,
                                   const MethodRun &run, size_t vertices) {
-  if (r.amount <= 0) return "Organic: " + measuredCleanPhrase(r.dihedral_spread_deg, p.clean_spread_deg) + ".";
-  return formatLine("Organic: noise estimate %.3f mean edge lengths along the normals (dihedral "
-                    "spread %.1f deg, roughness %.2f), strength %.2f: removed %.2f of it; ",
-                    r.mean_edge_length > 0 ? r.bands.noise_sigma / r.mean_edge_length : 0.0,
-                    r.dihedral_spread_deg, r.roughness, p.strength, r.amount) +
+  if (r.amount <= 0) return "Organic: " + measuredCleanPhrase(r.noise) + ".";
+  return "Organic: " + noisePhrase(r.noise, r.roughness) +
+         formatLine("; strength %.2f: removed %.2f of the noise along the normals (%.3f mean edge "
+                    "lengths); ",
+                    p.strength, r.amount,
+                    r.mean_edge_length > 0 ? r.bands.noise_sigma / r.mean_edge_length : 0.0) +
          movedPhrase(run, vertices) + ".";
 }
 
