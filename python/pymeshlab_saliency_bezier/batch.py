@@ -24,7 +24,8 @@ import time
 PROGRESS_TOPIC = "saliency-bezier-smooth-progress"
 _PERCENT = re.compile(r"\[\s*(\d+)%\s*\]\s*$")
 _LOG = re.compile(r"^LOG: \d+ (.*?)(?:\s*\[\s*\d+%\s*\])?\s*$")
-_AUTOMATIC_CHOICE = re.compile(r"^Automatic mode: .*?(feature-preserving|organic)[^,;]*\.\s*$")
+_AUTOMATIC_CHOICE = re.compile(r"^Automatic mode: .*\b(feature-preserving|organic) mode\.\s*$")
+_AUTOMATIC_CLEAN = re.compile(r"^Automatic mode: .*\bclean\b")
 # One filter call at a time per process: PyMeshLab keeps process-wide state (its logger) and the
 # capture below owns descriptor 1.
 _PROCESS_LOCK = threading.Lock()
@@ -126,6 +127,8 @@ def method_that_ran(result, log, requested):
         match = _AUTOMATIC_CHOICE.match(line)
         if match:
             return match.group(1)
+        if _AUTOMATIC_CLEAN.match(line):
+            return "none (measured clean: left as it is)"
     return requested if requested != "automatic" else "?"
 
 

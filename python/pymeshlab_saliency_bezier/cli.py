@@ -321,13 +321,18 @@ def run_dask(jobs, scheduler, local_workers, on_event, on_result):
             futures = {client.submit(batch.dask_task, job, pure=False,
                                      key=f"saliency-bezier-smooth-{os.getpid()}-{job['index']}"): job
                        for job in jobs}
-            for future in as_completed(futures):
+            finished = as_completed(futures)
+            while not finished.is_empty():
+                batch_done = finished.next_batch(block=False)
                 _drain(events, on_event)
-                job = futures[future]
-                try:
-                    on_result(future.result())
-                except Exception as error:  # the worker died (KilledWorker) or the task broke
-                    on_result(_failure(job, f"{type(error).__name__}: {error}"))
+                if not batch_done:
+                    time.sleep(0.1)
+                for future in batch_done:
+                    job = futures[future]
+                    try:
+                        on_result(future.result())
+                    except Exception as error:  # the worker died (KilledWorker) or the task broke
+                        on_result(_failure(job, f"{type(error).__name__}: {error}"))
             _drain(events, on_event)
             client.unsubscribe_topic(batch.PROGRESS_TOPIC)
     finally:
