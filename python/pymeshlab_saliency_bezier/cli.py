@@ -38,7 +38,8 @@ def parse_arguments(argv):
                         help="mesh files (any format PyMeshLab reads) or folders of them")
     parser.add_argument("-o", "--output", required=True, type=pathlib.Path, metavar="OUTDIR",
                         help="folder for the smoothed meshes (created if missing)")
-    parser.add_argument("--method", choices=list(METHODS), default="automatic",
+    parser.add_argument("--method", default="automatic",
+                        choices=["automatic", "feature", "organic", "ring", "patch", "newton"],
                         help="placement method (the filter's `placement`): automatic (default: "
                              "feature-preserving on meshes with sharp features, organic "
                              "otherwise), feature, organic, ring (ring barycentre), patch (patch "
