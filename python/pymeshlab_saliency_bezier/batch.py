@@ -27,7 +27,7 @@ _LOG = re.compile(r"^LOG: \d+ (.*?)(?:\s*\[\s*\d+%\s*\])?\s*$")
 _AUTOMATIC_CHOICE = re.compile(r"^Automatic mode: .*\b(feature-preserving|organic) mode\.\s*$")
 _AUTOMATIC_CLEAN = re.compile(r"^Automatic mode: .*\bclean\b")
 # One filter call at a time per process: PyMeshLab keeps process-wide state (its logger) and the
-# capture below owns descriptor 1.
+# capture below owns descriptors 1 and 2.
 _PROCESS_LOCK = threading.Lock()
 _libc = ctypes.CDLL(None)
 
