@@ -24,8 +24,11 @@ import time
 PROGRESS_TOPIC = "saliency-bezier-smooth-progress"
 _PERCENT = re.compile(r"\[\s*(\d+)%\s*\]\s*$")
 _LOG = re.compile(r"^LOG: \d+ (.*?)(?:\s*\[\s*\d+%\s*\])?\s*$")
-_AUTOMATIC_CHOICE = re.compile(r"^Automatic mode: .*\b(feature-preserving|organic) mode\.\s*$")
-_AUTOMATIC_CLEAN = re.compile(r"^Automatic mode: .*\bclean\b")
+# The filter's log starts with one summary line (vcg_ext: MethodRun::summary).
+_SUMMARY = re.compile(r"^(Automatic|Feature-preserving|Organic|Paper's method)\b")
+# The filter returns the row of its Method choice that ran (-1: none, the mesh measured clean).
+_METHOD_ROWS = ["ring barycentre", "patch point", "paper (Newton)", "feature-preserving",
+                "organic", "automatic"]
 # One filter call at a time per process: PyMeshLab keeps process-wide state (its logger) and the
 # capture below owns descriptors 1 and 2.
 _PROCESS_LOCK = threading.Lock()
@@ -119,24 +122,17 @@ def _details(error):
 
 
 def method_that_ran(result, log, requested):
-    """The method that ran: the filter's returned "method" if it returns one, else the automatic
-    mode's choice from its log line, else the method asked for."""
-    if isinstance(result, dict) and result.get("method"):
-        return str(result["method"])
-    for line in log:
-        match = _AUTOMATIC_CHOICE.match(line)
-        if match:
-            return match.group(1)
-        if _AUTOMATIC_CLEAN.match(line):
-            return "none (measured clean: left as it is)"
+    """The method that ran: the row the filter returns as "method" (the automatic one's choice;
+    -1 when the mesh measured as clean and was left as it was), else the method asked for."""
+    row = result.get("method") if isinstance(result, dict) else None
+    if isinstance(row, int) and -1 <= row < len(_METHOD_ROWS):
+        return "none (measured clean: left as it is)" if row < 0 else _METHOD_ROWS[row]
     return requested if requested != "automatic" else "?"
 
 
 def summary_of(result, log):
-    """One line about what the filter did: its returned "summary", else its "vertices moved" line."""
-    if isinstance(result, dict) and result.get("summary"):
-        return str(result["summary"])
-    return next((line for line in log if "vertices moved" in line), "")
+    """One line about what the filter did: the summary line the filter logs first."""
+    return next((line for line in log if _SUMMARY.match(line)), "")
 
 
 def _save_atomically(ms, output):
@@ -215,7 +211,10 @@ def _smooth_file(job, emit):
     ms.set_verbosity(False)
     result["seconds"]["filter"] = time.monotonic() - started
     result.update(method=method_that_ran(returned, progress.log, job.get("method", "?")),
-                  summary=summary_of(returned, progress.log), log=progress.log)
+                  summary=summary_of(returned, progress.log), log=progress.log,
+                  moved={key: returned[key] for key in
+                         ("vertices_moved", "mean_displacement", "roughness")}
+                  if isinstance(returned, dict) and "vertices_moved" in returned else None)
 
     progress.send("saving", 95, force=True)
     started = time.monotonic()

@@ -234,7 +234,11 @@ def describe(result, requested):
         method = f"automatic -> {method}"
     line = (f"{word} {result['input']} -> {result['output']}: {result['vertices']} vertices, "
             f"{method}, {seconds['total']:.2f} s (filter {seconds['filter']:.2f} s)")
-    return line + (f"; {result['summary']}" if result.get("summary") else "")
+    moved = result.get("moved")
+    if moved:
+        line += (f", {moved['vertices_moved']} vertices moved by {moved['mean_displacement']:.3f}"
+                 f" mean edge lengths, noise estimate {moved['roughness']:.2f}")
+    return line
 
 
 # ---- where to run ---------------------------------------------------------------------------------
