@@ -30,12 +30,7 @@ struct FilterOutcome {
 
 namespace detail {
 
-inline std::string format(const char *fmt, double a = 0, double b = 0, double c = 0,
-                          double d = 0) {
-  char buffer[256];
-  std::snprintf(buffer, sizeof buffer, fmt, a, b, c, d);
-  return buffer;
-}
+using vcg_ext::detail::formatLine;
 
 // `value` in the mesh's scalar type: NaN as 0 and anything beyond the type's range as its largest
 // value, counted in `clamped` (found by the fuzzer: a float mesh 3e-30 across has K = 1e59).
@@ -108,8 +103,8 @@ inline std::string checkRange(const ParameterValues &p, const std::string &name,
                               double hi) {
   const double value = p.at(name);
   if (!(value >= lo && value <= hi))
-    return "Parameter '" + name + "' = " + format("%g", value) + " is outside [" +
-           format("%g", lo) + ", " + format("%g", hi) + "].";
+    return "Parameter '" + name + "' = " + formatLine("%g", value) + " is outside [" +
+           formatLine("%g", lo) + ", " + formatLine("%g", hi) + "].";
   return {};
 }
 
@@ -179,18 +174,18 @@ FilterOutcome applyComputeSaliency(MeshType &m, const ParameterValues &p, vcg::C
     isolated += rings.isolated[i];
     mean_abs_h += std::abs(c.mean[i]) / arrays.points.size();
   }
-  out.log.push_back(detail::format(
+  out.log.push_back(detail::formatLine(
       "Saliency and curvature of %.0f vertices in %.3f s (epsilon = %g of the bbox diagonal).",
       double(arrays.points.size()), seconds, scale / stats.bbox_diagonal));
-  out.log.push_back(detail::format("Vertices with saliency > 0.5: %.0f; mean |H| = %g; "
+  out.log.push_back(detail::formatLine("Vertices with saliency > 0.5: %.0f; mean |H| = %g; "
                                    "boundary vertices (curvature from neighbours): %.0f.",
                                    double(salient), mean_abs_h, double(boundary)));
   if (nonmanifold + isolated > 0)
-    out.log.push_back(detail::format("Curvature and saliency undefined, set to 0: %.0f "
+    out.log.push_back(detail::formatLine("Curvature and saliency undefined, set to 0: %.0f "
                                      "non-manifold, %.0f isolated (in no face) vertices.",
                                      double(nonmanifold), double(isolated)));
   if (clamped > 0)
-    out.log.push_back(detail::format("%.0f per-vertex values were NaN or beyond the mesh's number "
+    out.log.push_back(detail::formatLine("%.0f per-vertex values were NaN or beyond the mesh's number "
                                      "range (a tiny mesh or tiny faces): stored as 0 or the largest "
                                      "representable value.",
                                      double(clamped)));
@@ -229,7 +224,7 @@ long storeSmoothingResult(MeshType &m, const vcg_ext::MeshArrays &arrays,
 }
 
 inline std::string clampedLog(long clamped) {
-  return format("%.0f per-vertex values were NaN or beyond the mesh's number range (a tiny mesh "
+  return formatLine("%.0f per-vertex values were NaN or beyond the mesh's number range (a tiny mesh "
                 "or tiny faces): stored as 0 or the largest representable value.",
                 double(clamped));
 }
@@ -275,7 +270,7 @@ inline std::string checkSmoothingParameters(const ParameterValues &p) {
   // The measured methods take iterations as a strength in thirds: 30 is ten times the measured
   // amount, already far past any use (the paper's methods count plain iterations up to 1000).
   if (int(p.at("placement")) >= 3 && p.at("iterations") > 30)
-    return "Parameter 'iterations' = " + detail::format("%g", p.at("iterations")) +
+    return "Parameter 'iterations' = " + detail::formatLine("%g", p.at("iterations")) +
            " is the strength in thirds for this method (3 = as measured) and at most 30.";
   return {};
 }
