@@ -59,6 +59,12 @@ def before_after(case, r, rotation, path):
             panels.append((label, r[key]["path"], r[key]))
     if peer is not None:
         panels.append((f"MeshLab {peer_label}", peer["path"], peer))
+    sd = [(r[k]["theta_deg"], label, r[k]) for k, label in
+          (("SD filter default", "defaults"), ("SD filter best", r.get("SD filter best", {}).get(
+              "setting"))) if r.get(k, {}).get("theta_deg") is not None and "path" in r[k]]
+    if sd:
+        _, label, scores = min(sd, key=lambda o: o[0])
+        panels.append((f"SD filter ({label})", scores["path"], scores))
     panels.append(("clean", case["clean"], None))
     fig, axes = plt.subplots(1, len(panels), figsize=(len(panels) * PANEL / 100, PANEL / 100 + 0.5))
     for ax, (title, mesh_path, scores) in zip(axes, panels):
@@ -179,7 +185,8 @@ def make_all(runner, cases, quality, curves, timing, img_dir, quick):
         file = "before_after_" + name.replace(" ", "_").replace(".", "") + ".png"
         before_after(by_name[name], quality[name], render.view_rotation(az, el, up),
                      img_dir / file)
-        pictures.append((f"{name}: noisy, ours (default, feature-preserving, organic), best MeshLab filter, clean", file))
+        pictures.append((f"{name}: noisy, ours (default, ring barycentre, feature-preserving, "
+                          "organic), best MeshLab filter, best SD filter setting, clean", file))
         done += 1
     if saliency_map(runner, cases, img_dir / "saliency.png", quick):
         pictures.append(("Saliency heat map", "saliency.png"))

@@ -19,8 +19,9 @@ as_root() {
 # Build dependencies, MeshLab 2020.09 headers and vcglib (quiet when already there).
 bash "$top/scripts/setup.sh"
 
-# The benchmark's own: plots, the libcgal-demo meshes, GNU time for peak memory, Xvfb.
-packages=(python3-numpy python3-matplotlib libcgal-demo time xvfb meshlab)
+# The benchmark's own: plots, the libcgal-demo meshes, GNU time for peak memory, Xvfb, MeshLab and
+# the SD filter (meshsdfilter-tools: MeshDenoiser), the peers.
+packages=(python3-numpy python3-matplotlib libcgal-demo time xvfb meshlab meshsdfilter-tools)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
