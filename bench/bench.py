@@ -255,6 +255,7 @@ class Runner:
             return self.memo[key]
         tag = re.sub(r"[^A-Za-z0-9]+", "_", f"{method}_{json.dumps(setting, sort_keys=True)}")
         out = case["dir"] / f"{tag}.ply"
+        start = time.perf_counter()
         try:
             if method == "ours":
                 self.smooth_inprocess(case["noisy"], out, setting, threads=self.quality_threads)
@@ -265,8 +266,10 @@ class Runner:
                               threads=self.quality_threads)
             else:
                 self.meshlab(case["noisy"], out, self.peer_mlx_path(method, setting))
+            wall = time.perf_counter() - start  # whole process(es), untimed conditions
             scores = self.compare(out, case["clean"])
             scores["path"] = str(out)
+            scores["wall"] = wall
         except (BenchError, sd_filter.SDError, subprocess.TimeoutExpired) as e:
             log(f"FAILED {case['name']} {method} {setting}: {str(e)[:400]}")
             scores = {"error": str(e)[:400]}

@@ -197,3 +197,22 @@ def make_all(runner, cases, quality, curves, timing, img_dir, quick):
         timing_plot(timing, img_dir / "time_vs_vertices.png")
         pictures.append(("Time vs vertex count", "time_vs_vertices.png"))
     return pictures
+
+
+def panel_row(panels, rotation, path, title, frame_points=None, size=PANEL):
+    """One row of flat-shaded renderings in the same view and frame: panels = [(title, mesh path
+    or (points, faces))]; the frame fits `frame_points` (default: the first panel's vertices)."""
+    meshes = []
+    for label, mesh in panels:
+        points, faces = (mesh if isinstance(mesh, tuple) else meshio.read_mesh(mesh)[:2])
+        meshes.append((label, points, faces))
+    frame = render.camera_frame((meshes[0][1] if frame_points is None else frame_points)
+                                @ rotation.T)
+    fig, axes = plt.subplots(1, len(meshes), figsize=(len(meshes) * size / 100, size / 100 + 0.5))
+    for ax, (label, points, faces) in zip(np.atleast_1d(axes), meshes):
+        ax.imshow(render.render(points, faces, rotation, size=size, frame=frame))
+        ax.set_title(label, fontsize=8)
+        ax.axis("off")
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout(pad=0.3, rect=(0, 0, 1, 0.88))
+    save(fig, path)

@@ -42,7 +42,7 @@ DEFAULTS = dict(
     elevation=25.0,     # degrees above the ring's plane
     distance=2.0,       # camera to bounding-box centre, in bbox diagonals
     corr_steps=6,       # graph-Laplacian smoothing steps of the correlated part
-    white=0.25,         # share of the variance that is per-vertex (uncorrelated)
+    white=0.1,          # share of the variance that is per-vertex (uncorrelated)
     quant=1.75,         # depth step / noise std at the reference depth (K&E 2012: 7 cm / 4 cm)
     grazing=0.05,       # incidence term weight (Nguyen et al. 2012: 0.1 mm vs 1.9 mm at 1 m)
     max_incidence=75.0, # degrees: beyond, a depth camera returns no data; clipped there
@@ -173,15 +173,14 @@ def scanner_noise(points, faces, level, seed, **params):
 # --------------------------------------------------------------------------------------------
 # The benchmark's cases
 
-# Clean meshes (none chosen for this model): the denoising literature's clean CAD models and
-# Bunny (shared/data/benchmark), the paper's cow, and the two largest of the libcgal-demo meshes
-# bench/bench.py already uses.
+# Clean meshes (none chosen for this model): three of the denoising literature's clean CAD models
+# (flat and curved) and its Bunny (shared/data/benchmark), the paper's cow, and the largest of the
+# libcgal-demo meshes bench/bench.py already uses.
 CASE_MESHES = [("Fandisk", "bench", "Fandisk0.3"), ("Block", "bench", "Block0.4"),
-               ("SharpSphere", "bench", "SharpSphere0.3"), ("Twelve", "bench", "Twelve0.5Impulsive"),
-               ("Bunny", "bench", "Bunny0.2"), ("cow", "paper", "cow"),
-               ("armadillo", "cgal", "armadillo"), ("lion-head", "cgal", "lion-head")]
-# (suffix, level in mean edge lengths, overrides): two scanning set-ups per mesh.
-CASE_VARIANTS = [("2views_0.3", 0.3, {"views": 2}), ("4views_0.5", 0.5, {"views": 4})]
+               ("SharpSphere", "bench", "SharpSphere0.3"), ("Bunny", "bench", "Bunny0.2"),
+               ("cow", "paper", "cow"), ("armadillo", "cgal", "armadillo")]
+# (suffix, level in mean edge lengths, overrides): two scanning set-ups per mesh (SCANNER_NOISE.md).
+CASE_VARIANTS = [("2views_0.2", 0.2, {"views": 2}), ("4views_0.4", 0.4, {"views": 4})]
 CASE_SEED = 20240516
 
 
@@ -229,6 +228,87 @@ def make_cases(dest, meshes=None):
     return cases
 
 
+# --------------------------------------------------------------------------------------------
+# Calibration figures (bench/SCANNER_NOISE.md): the cases next to the real scans
+
+def taubin_lowpass(points, edges, pairs=20, lam=0.5, mu=-0.53):
+    """Uniform-weight Taubin smoothing: the low-pass whose residual stands for the noise."""
+    n = len(points)
+    deg = np.maximum(np.bincount(edges.ravel(), minlength=n), 1).astype(float)[:, None]
+    x = points.copy()
+    for _ in range(pairs):
+        for w in (lam, mu):
+            s = np.stack([np.bincount(edges[:, 0], x[edges[:, 1], k], n) +
+                          np.bincount(edges[:, 1], x[edges[:, 0], k], n) for k in range(3)], 1)
+            x = x + w * (s / deg - x)
+    return x
+
+
+def ring_correlation(values, edges, rings=3, sources=2000, seed=0):
+    """Correlation of `values` (zero mean, unit variance) between a vertex and the vertices
+    exactly 1..rings edges away (breadth-first search from sampled vertices)."""
+    n = len(values)
+    a = np.concatenate([edges[:, 0], edges[:, 1]])
+    b = np.concatenate([edges[:, 1], edges[:, 0]])
+    order = np.argsort(a, kind="stable")
+    ptr, adj = np.searchsorted(a[order], np.arange(n + 1)), b[order]
+    sums, counts = np.zeros(rings), np.zeros(rings)
+    for s in np.random.default_rng(seed).choice(n, min(sources, n), replace=False):
+        seen, front = {int(s)}, [int(s)]
+        for d in range(rings):
+            nxt = [int(w) for v in front for w in adj[ptr[v]:ptr[v + 1]] if int(w) not in seen]
+            nxt = list(dict.fromkeys(nxt))
+            seen.update(nxt)
+            sums[d] += values[s] * values[nxt].sum()
+            counts[d] += len(nxt)
+            front = nxt
+    return sums / np.maximum(counts, 1)
+
+
+def noise_profile(points, faces):
+    """(median dihedral spread in degrees, residual correlation at 1, 2, 3 rings): the residual
+    is the displacement from a 20-pair Taubin low-pass along the vertex normals, standardised."""
+    import noref
+    edges = edges_of(faces)
+    r = np.einsum("ij,ij->i", points - taubin_lowpass(points, edges), vertex_normals(points, faces))
+    r = (r - r.mean()) / max(r.std(), 1e-300)
+    return noref.median_dihedral_spread_deg(points, faces), ring_correlation(r, edges)
+
+
+def calibration(dest):
+    """Prints the calibration table of bench/SCANNER_NOISE.md."""
+    rows = [("real: " + n, SHARED / "real" / f"{n}.ply", None) for n in ("angel", "rabbit", "iron")]
+    bunny = SHARED / "benchmark" / "Bunny0.2"
+    rows += [("Bunny clean", bunny / "clean.ply", None),
+             ("Bunny0.2 (benchmark: white noise along normals)", bunny / "noisy.ply", None)]
+    pts, faces, _ = meshio.read_mesh(bunny / "clean.ply")
+    variants = [("white only (corr_steps 0, white 1)", dict(corr_steps=0, white=1.0)),
+                ("correlated only (white 0)", dict(white=0.0)),
+                ("the model's defaults", {})]
+    print("| mesh | median dihedral spread (°) | residual correlation at 1 / 2 / 3 rings |")
+    print("|---|---|---|")
+    for label, path, _ in rows:
+        p, f, _ = meshio.read_mesh(path)
+        spread, corr = noise_profile(p, f)
+        print(f"| {label} | {spread:.1f} | {' / '.join(f'{c:.2f}' for c in corr)} |")
+    for level in (0.2, 0.4):
+        for label, overrides in variants:
+            noisy, _ = scanner_noise(pts, faces, level, CASE_SEED, views=2, **overrides)
+            spread, corr = noise_profile(noisy, faces)
+            print(f"| Bunny clean + model {level}, 2 views, {label} | {spread:.1f} | "
+                  f"{' / '.join(f'{c:.2f}' for c in corr)} |")
+    field = correlated_noise(np.random.default_rng(1), len(pts), edges_of(faces),
+                             DEFAULTS["corr_steps"], 0.0)
+    print(f"\nThe correlated part alone on the Bunny (no low-pass): correlation at 1 / 2 / 3 / 4 "
+          f"rings {' / '.join(f'{c:.2f}' for c in ring_correlation(field, edges_of(faces), 4))}")
+    if dest:
+        print("\n| case | median dihedral spread (°) |\n|---|---|")
+        import noref
+        for c in make_cases(dest):
+            p, f, _ = meshio.read_mesh(c["noisy"])
+            print(f"| {c['name']} | {noref.median_dihedral_spread_deg(p, f):.1f} |")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("clean", nargs="?", help="clean mesh (PLY or OFF)")
@@ -240,7 +320,13 @@ def main():
         if not isinstance(value, tuple):
             ap.add_argument("--" + key.replace("_", "-"), type=type(value), default=value)
     ap.add_argument("--cases", metavar="DIR", help="write the benchmark's cases into DIR")
+    ap.add_argument("--calibration", metavar="DIR", nargs="?", const="",
+                    help="print the calibration tables of bench/SCANNER_NOISE.md (with DIR: also "
+                         "the cases' spreads, written there)")
     args = ap.parse_args()
+    if args.calibration is not None:
+        calibration(args.calibration)
+        return
     if args.cases:
         for c in make_cases(args.cases):
             print(f"{c['name']}: {c['noisy']} ({c['info']['rms_displacement_edges']:.3f} mean "
