@@ -40,8 +40,8 @@ REAL = bench.SHARED / "data" / "real"
 # scan -> (world up axis for the picture, close-up centre as a fraction of the bbox, close-up
 # half extent as a fraction of the frame); the view looks along the scan's mean face normal (for
 # a single range scan: towards the scanner).
-SCANS = {"angel": ((0, 1, 0), (0.5, 0.55, 0.5), 0.22),
-         "rabbit": ((0, 1, 0), (0.45, 0.55, 0.5), 0.22),
+SCANS = {"angel": ((0, -1, 0), (0.5, 0.42, 0.5), 0.22),   # close-up: the face
+         "rabbit": ((0, 1, 0), (0.7, 0.4, 0.5), 0.22),     # the haunch's relief
          "iron": ((0, 0, 1), (0.5, 0.5, 0.5), 0.25)}
 METHODS = ["ours automatic (default)", "MeshLab Taubin x10", "SD filter defaults"]
 MARK_BEGIN, MARK_END = "<!-- results: bench/real_scans.py -->", "<!-- /results -->"
@@ -82,7 +82,7 @@ def picture(name, meshes, path):
     centre = lo + np.asarray(centre_frac) * (hi - lo)
     close = render.crop_frame(points0, rot, centre, full[1] * half_frac)
     fig, axes = plt.subplots(2, len(meshes), figsize=(len(meshes) * PANEL / 100,
-                                                      2 * PANEL / 100 + 0.5))
+                                                      2 * PANEL / 100 + 0.5), squeeze=False)
     for col, (title, points, faces) in enumerate(meshes):
         for row, frame in enumerate((full, close)):
             ax = axes[row, col]

@@ -105,9 +105,12 @@ def cameras(rng, centre, diag, views, elevation, distance):
     return np.array(out)
 
 
-def scanner_noise(points, faces, level, seed, **params):
+def scanner_noise(points, faces, level, seed, details=False, **params):
     """(noisy points, info): the model of the module doc. `level`: the noise std at the reference
-    depth (the bounding box centre's) and head-on incidence, in mean edge lengths."""
+    depth (the bounding box centre's) and head-on incidence, in mean edge lengths. info: the
+    parameters and figures (JSON-ready); with `details`, also per-vertex numpy arrays: the camera
+    index `view`, `depth` (clean) and `measured` depth along its optical axis, `sigma`, `outlier`
+    (bool), and `optical_axes`, `disparity_step`."""
     p = dict(DEFAULTS, **params)
     points = np.asarray(points, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
@@ -143,6 +146,7 @@ def scanner_noise(points, faces, level, seed, **params):
     # disparity quantisation: steps of 1/z uniform, so depth steps grow as z^2 and equal
     # quant x level x mean edge at the reference depth
     step = p["quant"] * level * mean_edge
+    du = None
     if step > 0:
         du = step / z_ref ** 2
         measured = 1.0 / (np.maximum(np.round(1.0 / (measured * du)), 1) * du)
@@ -160,6 +164,7 @@ def scanner_noise(points, faces, level, seed, **params):
     noisy = cam + (points - cam) * (measured / z)[:, None]               # along the camera ray
     moved = np.linalg.norm(noisy - points, axis=1)
     info = {"vertices": n, "mean_edge": mean_edge, "level": level, "seed": seed,
+            "cameras": cams.tolist(),
             "params": {k: list(v) if isinstance(v, tuple) else v for k, v in p.items()},
             "vertices_per_view": np.bincount(view, minlength=p["views"]).tolist(),
             "sigma_over_edge": {"min": float(sigma.min() / mean_edge),
@@ -167,6 +172,11 @@ def scanner_noise(points, faces, level, seed, **params):
                                 "max": float(sigma.max() / mean_edge)},
             "rms_displacement_edges": float(np.sqrt(np.mean(moved ** 2)) / mean_edge),
             "outliers": int(count)}
+    if details:
+        outlier = np.zeros(n, dtype=bool)
+        outlier[chosen] = True
+        info.update(view=view, depth=z, measured=measured, sigma=sigma, outlier=outlier,
+                    optical_axes=optical_axis, disparity_step=du if step > 0 else None)
     return noisy, info
 
 
