@@ -15,10 +15,23 @@
 import numpy as np
 
 
+def area_normals(points, faces):
+    """Face normals scaled by twice the face area."""
+    a, b, c = points[faces[:, 0]], points[faces[:, 1]], points[faces[:, 2]]
+    return np.cross(b - a, c - a)
+
+
 def face_normals(points, faces):
-    fn = np.cross(points[faces[:, 1]] - points[faces[:, 0]], points[faces[:, 2]] - points[faces[:, 0]])
+    """(unit face normals, which faces have a non-zero area)."""
+    fn = area_normals(points, faces)
     return fn / np.maximum(np.linalg.norm(fn, axis=1, keepdims=True), 1e-300), \
         np.linalg.norm(fn, axis=1) > 0
+
+
+def unique_edges(faces):
+    """(k,2) vertex pairs, each undirected edge once."""
+    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    return np.unique(np.sort(e, axis=1), axis=0)
 
 
 def edge_neighbours(faces):
@@ -61,13 +74,13 @@ def median_dihedral_spread_deg(points, faces):
 
 
 def mean_edge_length(points, faces):
-    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    e = np.unique(np.sort(e, axis=1), axis=0)
+    e = unique_edges(faces)
     return float(np.linalg.norm(points[e[:, 0]] - points[e[:, 1]], axis=1).mean())
 
 
 def vertex_normals(points, faces):
-    fn = np.cross(points[faces[:, 1]] - points[faces[:, 0]], points[faces[:, 2]] - points[faces[:, 0]])
+    """Area-weighted unit vertex normals."""
+    fn = area_normals(points, faces)
     vn = np.zeros_like(points)
     for k in range(3):
         np.add.at(vn, faces[:, k], fn)

@@ -20,6 +20,7 @@ import argparse
 import json
 import os
 import pathlib
+import resource
 import signal
 import sys
 import time
@@ -139,11 +140,14 @@ def main():
             meshes = [("input", points, faces)]
             for method in METHODS:
                 out = work / f"{name}_{METHODS.index(method)}.ply"
+                before = resource.getrusage(resource.RUSAGE_CHILDREN)
                 r = run_method(runner, method, src, out)
+                after = resource.getrusage(resource.RUSAGE_CHILDREN)
+                cpu = after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
                 p, f, _ = meshio.read_mesh(out)
                 if len(p) != len(points) or not np.array_equal(f, faces):
                     sys.exit(f"{method} changed {name}'s connectivity: cannot compare")
-                row[method] = dict(noref.displacement(points, p, faces), wall=r["wall"],
+                row[method] = dict(noref.displacement(points, p, faces), wall=r["wall"], cpu=cpu,
                                    spread=noref.median_dihedral_spread_deg(p, faces))
                 if "split_faces" in r:
                     row[method]["split_faces"] = r["split_faces"]
@@ -164,13 +168,15 @@ def main():
          f"{elapsed / 60:.1f} min. Do not edit by hand: rerun the command.", "",
          "Displacement in the input's mean edge lengths (mean / 99th percentile / mean signed "
          "part along the input's normals, negative = inwards); median dihedral spread (°) of the "
-         "input → the result; whole-process wall time (s).", "",
+         "input → the result; whole-process wall / CPU (user + system) time in seconds, one run "
+         "(a shared machine: wall time swings with the other jobs' load, CPU time much less).", "",
          "| scan | vertices | input spread | " + " | ".join(METHODS) +
          " | default ÷ Taubin ×10 (mean displacement) |", "|---|---|---|" + "---|" * len(METHODS)
          + "---|"]
     for name, row in results.items():
         cells = [f"{row[m]['mean']:.3f} / {row[m]['p99']:.3f} / {row[m]['normal_mean']:+.3f}; "
-                 f"spread → {row[m]['spread']:.1f}; {row[m]['wall']:.1f} s" for m in METHODS]
+                 f"spread → {row[m]['spread']:.1f}; {row[m]['wall']:.1f} / {row[m]['cpu']:.1f} s"
+                 for m in METHODS]
         taubin = row["MeshLab Taubin x10"]["mean"]
         ratio = row[METHODS[0]]["mean"] / taubin if taubin > 0 else float("nan")
         L.append(f"| {name} | {row['vertices']} | {row['spread']:.1f} | " + " | ".join(cells) +

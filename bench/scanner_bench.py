@@ -25,6 +25,7 @@ import argparse
 import json
 import os
 import pathlib
+import resource
 import signal
 import statistics
 import sys
@@ -135,7 +136,8 @@ def meshlab_choice(r, which):
     for p in PEERS:
         sc = r[f"{p} {which}"]
         if finite(sc.get("theta_deg")) and (best is None or sc["theta_deg"] < best[1]["theta_deg"]):
-            setting = sc.get("setting") if which == "best" else peer_setting_text(p, PEER_DEFAULT[p])
+            setting = sc.get("setting") if which == "best" else \
+                peer_setting_text(p, PEER_DEFAULT[p])
             best = (f"{p} {setting}", sc)
     return best or ("–", {})
 
@@ -155,8 +157,14 @@ def run_times(runner, cases, runs):
         for rnd in range(runs):
             for label, fn in methods:
                 if rnd == 0 or label != "SD defaults":
-                    samples[label].append(fn(case, out)["wall"])
-        times[case["name"]] = {m: statistics.median(s) for m, s in samples.items()}
+                    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+                    wall = fn(case, out)["wall"]
+                    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+                    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+                    samples[label].append((wall, cpu))
+        times[case["name"]] = {m: statistics.median(w for w, _ in s) for m, s in samples.items()}
+        times[case["name"]].update({m + " cpu": statistics.median(c for _, c in s)
+                                    for m, s in samples.items()})
         log(f"time {case['name']}: " + ", ".join(f"{m} {t:.2f} s"
                                                  for m, t in times[case["name"]].items()))
     return times
@@ -223,18 +231,26 @@ def scanner_tables(cases, results, times, runs):
     if times:
         L += ["", "Time: whole process wall time in seconds (load, filter, save; ours and Taubin "
               f"inside meshlabserver, interleaved, medians of {runs} runs; the SD filter once, "
-              "with its own OpenMesh I/O), before the quality runs; ratio = ours ÷ Taubin ×10. "
-              "A shared machine: read the ratios, not the seconds. The last row is issue 16's "
+              "with its own OpenMesh I/O), before the quality runs; ratio = ours ÷ Taubin ×10; "
+              "CPU = user + system seconds of the same processes (all threads; on a machine "
+              "shared with other jobs wall time swings with their load, above all for "
+              "multi-threaded runs, while CPU time does not). The last row is issue 16's "
               "time criterion (a whole meshlabserver run at 139k vertices within 2× of Taubin "
               "×10): the Bunny subdivided once at its edge midpoints, 2-view level-0.2 scanner "
               "noise, timed only.", "",
-              "| case | vertices | ours automatic (default) | MeshLab Taubin ×10 | SD filter "
-              "defaults | ours ÷ Taubin ×10 |", "|---|---|---|---|---|---|"]
+              "| case | vertices | ours automatic (default): wall / CPU | MeshLab Taubin ×10: "
+              "wall / CPU | SD filter defaults: wall / CPU | ours ÷ Taubin ×10: wall / CPU |",
+              "|---|---|---|---|---|---|"]
+
+        def pair(t, m):
+            return f"{t[m]:.2f} / {t[m + ' cpu']:.2f}" if m + " cpu" in t else f"{t[m]:.2f} / –"
         for name, t in times.items():
             vertices = results[name]["noisy"]["vertices"] if name in results else 139122
-            L.append(f"| {name} | {vertices} | "
-                     f"{t['ours']:.2f} | {t['Taubin x10']:.2f} | {t['SD defaults']:.2f} | "
-                     f"{t['ours'] / t['Taubin x10']:.2f} |")
+            cpu_ratio = (f"{t['ours cpu'] / t['Taubin x10 cpu']:.2f}"
+                         if t.get("Taubin x10 cpu") else "–")
+            L.append(f"| {name} | {vertices} | {pair(t, 'ours')} | {pair(t, 'Taubin x10')} | "
+                     f"{pair(t, 'SD defaults')} | {t['ours'] / t['Taubin x10']:.2f} / "
+                     f"{cpu_ratio} |")
     return L
 
 

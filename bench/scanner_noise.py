@@ -31,6 +31,8 @@ import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import meshio  # noqa: E402
+import noref  # noqa: E402
+from noref import mean_edge_length, unique_edges as edges_of, vertex_normals  # noqa: E402
 
 REPO = pathlib.Path(__file__).resolve().parents[1]
 SHARED = REPO.parent / "shared" / "data"
@@ -51,24 +53,6 @@ DEFAULTS = dict(
 )
 
 
-def edges_of(faces):
-    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    return np.unique(np.sort(e, axis=1), axis=0)
-
-
-def mean_edge_length(points, edges):
-    return float(np.linalg.norm(points[edges[:, 0]] - points[edges[:, 1]], axis=1).mean())
-
-
-def vertex_normals(points, faces):
-    """Area-weighted vertex normals (unit)."""
-    fn = np.cross(points[faces[:, 1]] - points[faces[:, 0]], points[faces[:, 2]] - points[faces[:, 0]])
-    vn = np.zeros_like(points)
-    for k in range(3):
-        np.add.at(vn, faces[:, k], fn)
-    return vn / np.maximum(np.linalg.norm(vn, axis=1, keepdims=True), 1e-300)
-
-
 def smooth_field(values, edges, steps):
     """`steps` graph-Laplacian steps x <- (x + mean of the 1-ring) / 2 (uniform weights, so the
     correlation length is in rings, independent of the mesh's scale)."""
@@ -76,7 +60,8 @@ def smooth_field(values, edges, steps):
     deg = np.bincount(edges.ravel(), minlength=n).astype(float)
     x = values.copy()
     for _ in range(steps):
-        s = np.bincount(edges[:, 0], x[edges[:, 1]], n) + np.bincount(edges[:, 1], x[edges[:, 0]], n)
+        s = np.bincount(edges[:, 0], x[edges[:, 1]], n) + \
+            np.bincount(edges[:, 1], x[edges[:, 0]], n)
         x = 0.5 * x + 0.5 * s / np.maximum(deg, 1)
     return x
 
@@ -89,7 +74,8 @@ def correlated_noise(rng, n, edges, steps, white):
 
 
 def cameras(rng, centre, diag, views, elevation, distance):
-    """Camera positions on a ring around a seeded random axis (a turntable), first azimuth random."""
+    """Camera positions on a ring around a seeded random axis (a turntable), the first azimuth
+    random."""
     axis = rng.standard_normal(3)
     axis /= np.linalg.norm(axis)
     e1 = np.cross(axis, [1.0, 0, 0] if abs(axis[0]) < 0.9 else [0, 1.0, 0])
@@ -117,7 +103,7 @@ def scanner_noise(points, faces, level, seed, details=False, **params):
     n = len(points)
     rng = np.random.default_rng(seed)
     edges = edges_of(faces)
-    mean_edge = mean_edge_length(points, edges)
+    mean_edge = mean_edge_length(points, faces)
     lo, hi = points.min(0), points.max(0)
     centre, diag = 0.5 * (lo + hi), float(np.linalg.norm(hi - lo))
     cams = cameras(rng, centre, diag, p["views"], p["elevation"], p["distance"])
@@ -278,7 +264,6 @@ def ring_correlation(values, edges, rings=3, sources=2000, seed=0):
 def noise_profile(points, faces):
     """(median dihedral spread in degrees, residual correlation at 1, 2, 3 rings): the residual
     is the displacement from a 20-pair Taubin low-pass along the vertex normals, standardised."""
-    import noref
     edges = edges_of(faces)
     r = np.einsum("ij,ij->i", points - taubin_lowpass(points, edges), vertex_normals(points, faces))
     r = (r - r.mean()) / max(r.std(), 1e-300)
@@ -313,7 +298,6 @@ def calibration(dest):
           f"rings {' / '.join(f'{c:.2f}' for c in ring_correlation(field, edges_of(faces), 4))}")
     if dest:
         print("\n| case | median dihedral spread (°) |\n|---|---|")
-        import noref
         for c in make_cases(dest):
             p, f, _ = meshio.read_mesh(c["noisy"])
             print(f"| {c['name']} | {noref.median_dihedral_spread_deg(p, f):.1f} |")
