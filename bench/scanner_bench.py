@@ -298,18 +298,6 @@ def pictures(cases, results, img_dir):
     return made
 
 
-def write_report(path, text_lines):
-    path = pathlib.Path(path)
-    block = MARK_BEGIN + "\n" + "\n".join(text_lines) + "\n" + MARK_END
-    text = path.read_text() if path.exists() else ""
-    begin, end = text.find(MARK_BEGIN), text.find(MARK_END)
-    if begin >= 0 and end > begin:
-        text = text[:begin] + block + text[end + len(MARK_END):]
-    else:
-        text = text + ("\n" if text else "") + block + "\n"
-    path.write_text(text)
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--build", default=os.environ.get("SBS_BUILD_DIR", str(REPO / "build")))
@@ -399,7 +387,7 @@ def main():
         L += ["", "### Pictures", "", "Flat shading, the same view and frame in every panel; "
               "the SD filter's panel is its better (by θ) of defaults and best setting.", ""]
         L += [f"![{m}](../docs/img/{m})" for m in made]
-    write_report(out, L)
+    bench.write_between_markers(out, MARK_BEGIN, MARK_END, L)
     log(f"wrote {out} ({elapsed / 60:.1f} min)")
     print("\n".join(L))
 
