@@ -287,10 +287,13 @@ template <class MeshType>
 FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
                                         vcg::CallBackPos *cb) {
   FilterOutcome out;
-  const vcg_ext::MeshArrays arrays = vcg_ext::extractArrays(m);
+  vcg_ext::MeshArrays arrays = vcg_ext::extractArrays(m);
   out.error = detail::rejectMesh(m, arrays);
   if (out.error.empty()) out.error = checkSmoothingParameters(p);
   if (!out.error.empty()) return out;
+  const vcg_ext::MethodRow &method = vcg_ext::methodTable()[size_t(p.at("placement"))];
+  // In the order the method runs in (the mesh slots follow), instead of a second, ordered copy.
+  if (method.runs_in_spatial_order) vcg_ext::putInSpatialOrder(arrays);
   const vcg_ext::MethodParams params = methodParamsOf(p);
   if (params.selected_only) {
     bool any = false;
@@ -301,7 +304,6 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
 
   std::vector<vcg_ext::Vec3> result;
   vcg_ext::VertexQuantities q;
-  const vcg_ext::MethodRow &method = vcg_ext::methodTable()[size_t(p.at("placement"))];
   const vcg_ext::MethodRun run =
       method.run(arrays, params, result, q, detail::progressOf(cb));
   if (run.cancelled) return out.error = "Cancelled: the mesh is unchanged.", out;

@@ -272,7 +272,8 @@ inline long describeResult(const std::vector<Vec3> &input, const std::vector<Vec
 
 // What the drivers set up once per run: topology, which vertices may move (not frozen, selected
 // when only the selection is smoothed, not on the boundary when the boundary is fixed), and the
-// input's enclosed volume. The face rings only for the drivers that filter face normals.
+// input's enclosed volume. The face rings only for the drivers that filter face normals, the
+// 2-rings only for the paper's patches.
 struct DriverSetup {
   Rings rings;
   EdgeStatistics stats;
@@ -286,10 +287,10 @@ struct DriverSetup {
 
 inline DriverSetup driverSetup(const MeshArrays &mesh, bool selected_only,
                                BoundaryMode boundary = BoundaryMode::NoInward,
-                               bool with_face_rings = true) {
+                               bool with_face_rings = true, bool with_two_rings = false) {
   DriverSetup s;
   const int n = int(mesh.points.size());
-  s.rings = computeRings(n, mesh.faces);
+  s.rings = computeRings(n, mesh.faces, with_two_rings);
   s.stats = edgeStatistics(mesh.points, s.rings);
   s.roles = vertexRoles(mesh, s.rings, s.stats.mean_edge_length);
   if (with_face_rings) s.face_rings = computeFaceRings(mesh.faces, s.rings);
@@ -346,10 +347,12 @@ inline void restoreInputVolume(std::vector<Vec3> &points, const DriverSetup &set
 
 // Runs `drive(ordered_mesh, out, quantities)` on the mesh in spatial order (spatial_order.h) and
 // puts the result back in the input's order; `out_points` and `quantities` are left as they were
-// when the driver leaves its own untouched (cancelled, declined).
+// when the driver leaves its own untouched (cancelled, declined). A mesh already put in spatial
+// order (the filter does that, MeshArrays::spatially_ordered) is used as it is, without a copy.
 template <class Drive>
 auto inSpatialOrder(const MeshArrays &mesh, std::vector<Vec3> &out_points,
                     VertexQuantities &quantities, Drive drive) {
+  if (mesh.spatially_ordered) return drive(mesh, out_points, quantities);
   const SpatialOrder order = spatialOrder(mesh);
   std::vector<Vec3> out;
   VertexQuantities q;

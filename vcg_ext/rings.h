@@ -72,7 +72,10 @@ void buildCsrInBlocks(int n, std::vector<int> &offsets, std::vector<int> &values
 
 // Builds the rings of a triangle mesh with `vertex_count` vertices. Every list is gathered per
 // vertex from its own faces (no global sort of the edges), in parallel, in vertex order.
-inline Rings computeRings(int vertex_count, const std::vector<Face> &faces) {
+// `with_two_rings` false leaves the 2-rings empty: only the paper's patches read them, and they
+// are the largest lists (about 18 entries per vertex, 76 bytes per vertex with the offsets).
+inline Rings computeRings(int vertex_count, const std::vector<Face> &faces,
+                          bool with_two_rings = true) {
   Rings r;
   r.vertex_count = vertex_count;
   const int n = vertex_count;
@@ -166,6 +169,7 @@ inline Rings computeRings(int vertex_count, const std::vector<Face> &faces) {
   // would bend the patch fitted to this one (measured: a fin of height 0.3 on a unit grid lifted
   // its neighbours by 0.07).
   // The 1-rings are sorted: merging them costs less than sorting their concatenation.
+  if (!with_two_rings) return r;
   detail::buildCsrInBlocks(n, r.ring2_offsets, r.ring2, [&](int v, std::vector<int> &out) {
     thread_local std::vector<int> ring, merged;
     ring.assign(r.ring1Begin(v), r.ring1End(v));
