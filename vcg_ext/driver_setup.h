@@ -254,7 +254,7 @@ inline long describeResult(const std::vector<Vec3> &input, const std::vector<Vec
                            double saliency_scale, VertexQuantities &quantities) {
   const int n = int(result.size());
   SurfaceAnalysis analysis;
-  analyseSurface(result, faces, rings, saliency_scale, analysis);
+  analyseSurface(result, faces, rings, saliency_scale, analysis, /*with_directions=*/false);
   quantities.saliency = std::move(analysis.saliency);
   quantities.k1 = std::move(analysis.curvature.k1);
   quantities.k2 = std::move(analysis.curvature.k2);
@@ -328,7 +328,7 @@ inline std::vector<double> saliencyFaceAlpha(const std::vector<Vec3> &points,
                                              const std::vector<Face> &faces,
                                              const DriverSetup &setup, double saliency_scale) {
   SurfaceAnalysis analysis;
-  analyseSurface(points, faces, setup.rings, saliency_scale, analysis);
+  analyseSurface(points, faces, setup.rings, saliency_scale, analysis, /*with_directions=*/false);
   return faceAlphaFromSaliency(faces, setup.face_rings, analysis.saliency);
 }
 

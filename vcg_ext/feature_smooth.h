@@ -115,7 +115,8 @@ inline Eigen::Matrix3d featureTangentProjector(int v, const Rings &rings,
 } // namespace detail
 
 // `given_setup` (optional): the topology and roles of `mesh` with the same selected_only, when the
-// caller has them already (the automatic mode shares them between both drivers).
+// caller has them already (the automatic mode shares them between both drivers). A driver that
+// finishes releases the set-up's face rings (the result quantities do not need them).
 // `first_pass_check` (optional) sees the first pass's face normals after the first guidance period of the normal filter (4
 // iterations), before any vertex moves; false stops the driver (report.declined, out_points
 // untouched). The automatic mode decides with it (auto_smooth.h)
@@ -132,7 +133,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
                                                 VertexQuantities &quantities,
                                                 const ProgressFn &progress = nullptr,
                                                 const FilteredNormalsCheck &first_pass_check = nullptr,
-                                                const DriverSetup *given_setup = nullptr) {
+                                                DriverSetup *given_setup = nullptr) {
   using clock = std::chrono::steady_clock;
   auto seconds = [](clock::time_point a) {
     return std::chrono::duration<double>(clock::now() - a).count();
@@ -144,7 +145,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   std::optional<detail::DriverSetup> own_setup;
   if (!given_setup)
     own_setup.emplace(detail::driverSetup(mesh, params.selected_only, params.boundary));
-  const detail::DriverSetup &setup = given_setup ? *given_setup : *own_setup;
+  detail::DriverSetup &setup = given_setup ? *given_setup : *own_setup;
   const Rings &rings = setup.rings;
   const EdgeStatistics &stats = setup.stats;
   const detail::VertexRoles &roles = setup.roles;
@@ -194,13 +195,21 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   report.seconds_prepass = seconds(t);
   if (!report_progress(0, 0.05, "Taubin pre-pass")) return report.cancelled = true, report;
 
-  std::vector<Vec3> filtered, next(current), vertex_normals;
-  std::vector<FacePatch> patches(params.patch_iterations > 0 ? face_count : 0);
-  std::vector<Eigen::Matrix3d> tangent_projector(params.tangential > 0 ? n : 0);
+  // Buffers live only while their stage runs, so that the normal filter's peak (its weights) and
+  // the patch fits' do not add up with each other's.
+  std::vector<Vec3> filtered, next, vertex_normals;
+  std::vector<FacePatch> patches;
+  std::vector<Eigen::Matrix3d> tangent_projector;
   std::vector<std::uint8_t> relax(n, 1), relax_next(n, 1);
   for (int pass = 0; pass < outer && edge > 0; ++pass) {
     t = clock::now();
+    std::vector<Eigen::Matrix3d>().swap(tangent_projector);
+    std::vector<Vec3>().swap(next);
     computeFaceGeometry(current, mesh.faces, geometry);
+    // The filter starts from the face normals and works in place; the vertex updates recompute
+    // the geometry anyway.
+    filtered.swap(geometry.normal);
+    std::vector<Vec3>().swap(geometry.normal);
     // The first-pass check sees the normals after the first guidance period; the filter then
     // goes on from there (guidance is recomputed every `guidance_every` iterations from the
     // current normals and the spatial weights depend on the unchanged geometry, so the split
@@ -212,20 +221,21 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
     if (check_iterations > 0) {
       NormalFilterParams first = normal_filter;
       first.iterations = check_iterations;
-      filterNormals(mesh.faces, face_rings, geometry, first, edge, filtered);
+      filterNormalsInPlace(face_rings, geometry.centroid, geometry.area, first, edge, filtered);
       if (!first_pass_check(filtered, setup)) {
         report.seconds_normals += seconds(t);
         return report.declined = true, report;
       }
       NormalFilterParams rest = normal_filter;
       rest.iterations = normal_filter.iterations - check_iterations;
-      FaceGeometry partly_filtered = geometry;
-      partly_filtered.normal = filtered;
-      filterNormals(mesh.faces, face_rings, partly_filtered, rest, edge, filtered);
+      filterNormalsInPlace(face_rings, geometry.centroid, geometry.area, rest, edge, filtered);
     } else {
-      filterNormals(mesh.faces, face_rings, geometry, normal_filter, edge, filtered);
+      filterNormalsInPlace(face_rings, geometry.centroid, geometry.area, normal_filter, edge,
+                           filtered);
     }
+    next.resize(n);
     if (params.tangential > 0) {
+      tangent_projector.resize(n);
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
       for (int v = 0; v < n; ++v)
         tangent_projector[v] = rings.boundary[v] || fixed[v]
@@ -243,6 +253,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
       const bool use_patches = pass == outer - 1 && it >= vertex_iterations - params.patch_iterations;
       long fallbacks = 0, rejected = 0;
       if (use_patches) {
+        patches.resize(face_count);
         const std::vector<double> face_alpha =
             params.alpha_override ? std::vector<double>()
                                   : detail::saliencyFaceAlpha(current, mesh.faces, setup,
@@ -306,6 +317,15 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   if (params.preserve_volume && report.closed && vertex_iterations > 0 && edge > 0)
     detail::restoreInputVolume(current, setup, mesh.faces, vertex_normals);
 
+  // Only the result and the rings are read from here on: the result quantities' peak (saliency)
+  // should not stack on the iterations' buffers.
+  std::vector<Vec3>().swap(filtered);
+  std::vector<Vec3>().swap(next);
+  std::vector<Vec3>().swap(vertex_normals);
+  std::vector<FacePatch>().swap(patches);
+  std::vector<Eigen::Matrix3d>().swap(tangent_projector);
+  geometry = FaceGeometry();
+  setup.face_rings = FaceRings();
   t = clock::now();
   report.vertices_moved = detail::describeResult(mesh.points, current, mesh.faces, rings,
                                                  params.saliency_scale * stats.bbox_diagonal,

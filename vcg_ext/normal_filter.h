@@ -37,6 +37,16 @@ struct FaceGeometry {
   std::vector<Vec3> centroid;
 };
 
+namespace detail {
+// A face's unit normal (zero when degenerate) and the length of its cross product (twice its area).
+inline Vec3 unitFaceNormal(const Vec3 &a, const Vec3 &b, const Vec3 &c, double &cross_length) {
+  const Vec3 cross = (b - a).cross(c - a);
+  cross_length = cross.norm();
+  return cross_length > 0 && std::isfinite(cross_length) ? Vec3(cross / cross_length)
+                                                         : Vec3::Zero();
+}
+} // namespace detail
+
 inline void computeFaceGeometry(const std::vector<Vec3> &points, const std::vector<Face> &faces,
                                 FaceGeometry &out) {
   const int m = int(faces.size());
@@ -46,11 +56,23 @@ inline void computeFaceGeometry(const std::vector<Vec3> &points, const std::vect
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
   for (int f = 0; f < m; ++f) {
     const Vec3 &a = points[faces[f][0]], &b = points[faces[f][1]], &c = points[faces[f][2]];
-    const Vec3 cross = (b - a).cross(c - a);
-    const double len = cross.norm();
+    double len;
+    out.normal[f] = detail::unitFaceNormal(a, b, c, len);
     out.area[f] = 0.5 * len;
-    out.normal[f] = len > 0 && std::isfinite(len) ? Vec3(cross / len) : Vec3::Zero();
     out.centroid[f] = (a + b + c) / 3.0;
+  }
+}
+
+// The unit face normals alone (computeFaceGeometry's, without areas and centroids).
+inline void computeFaceNormals(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                               std::vector<Vec3> &normals) {
+  const int m = int(faces.size());
+  normals.resize(m);
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
+  for (int f = 0; f < m; ++f) {
+    double len;
+    normals[f] = detail::unitFaceNormal(points[faces[f][0]], points[faces[f][1]],
+                                        points[faces[f][2]], len);
   }
 }
 
@@ -214,39 +236,30 @@ inline void patchConsistency(int f, const FaceRings &face_rings, const std::vect
 
 } // namespace detail
 
-// Filters `geometry.normal` into `out` (unit normals, one per face).
-inline void filterNormals(const std::vector<Face> &faces, const FaceRings &face_rings,
-                          const FaceGeometry &geometry, const NormalFilterParams &params,
-                          double mean_edge, std::vector<Vec3> &out) {
-  const int m = int(faces.size());
-  out = geometry.normal;
-  std::vector<Vec3> next(m), guidance(m);
-  std::vector<double> consistency(m);
-  std::vector<Vec3> patch_normal(m);
-  // The centroids do not move while the normals are filtered: the spatial part of each weight
-  // (with the area) is computed once, in the order of face_rings.faces.
-  std::vector<double> spatial_weight(face_rings.faces.size());
+// Filters face normals in place: `normals` holds the faces' unit normals on entry and the filtered
+// ones on return; `centroid` and `area` are the faces' (FaceGeometry), unchanged while filtering.
+// Memory: three face-sized vectors and one weight per face-ring entry, allocated once per call.
+inline void filterNormalsInPlace(const FaceRings &face_rings, const std::vector<Vec3> &centroid,
+                                 const std::vector<double> &area,
+                                 const NormalFilterParams &params, double mean_edge,
+                                 std::vector<Vec3> &normals) {
+  const int m = int(normals.size());
+  if (params.iterations <= 0 || m == 0) return;
+  std::vector<Vec3> &out = normals;
+  std::vector<Vec3> next(m), guidance(params.kind == NormalFilterKind::Guided ? m : 0);
+  std::vector<double> consistency(params.kind == NormalFilterKind::Guided ? m : 0);
+  std::vector<double> weight(face_rings.faces.size());
   const double spatial = -0.5 / std::pow(params.sigma_s * mean_edge, 2);
   const double range = -0.5 / (params.sigma_r * params.sigma_r);
-#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
-  for (int f = 0; f < m; ++f)
-    for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k) {
-      const int g = face_rings.faces[k];
-      const double ds = (geometry.centroid[f] - geometry.centroid[g]).squaredNorm();
-      const double area = params.area_power == 0.0   ? 1.0
-                          : params.area_power == 1.0 ? geometry.area[g]
-                                                     : std::pow(geometry.area[g], params.area_power);
-      spatial_weight[k] = area * std::exp(spatial * ds);
-    }
-  std::vector<double> weight(params.iterations > 0 ? face_rings.faces.size() : 0);
   for (int it = 0; it < params.iterations; ++it) {
     const bool guidance_changed =
         params.kind == NormalFilterKind::Guided && it % std::max(1, params.guidance_every) == 0;
     if (guidance_changed) {
+      // The patches' mean normals go to `next`, free until the sum below.
+      std::vector<Vec3> &patch_normal = next;
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
       for (int f = 0; f < m; ++f)
-        detail::patchConsistency(f, face_rings, out, geometry.area, consistency[f],
-                                 patch_normal[f]);
+        detail::patchConsistency(f, face_rings, out, area, consistency[f], patch_normal[f]);
       // Each face takes the mean normal of the most consistent patch that contains it; the
       // lowest face index breaks ties so the choice does not depend on the order of the scan.
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
@@ -260,16 +273,23 @@ inline void filterNormals(const std::vector<Face> &faces, const FaceRings &face_
       }
     }
     // The weights change with the kernel normals only: the guided filter's guidance stays for
-    // `guidance_every` iterations, and so do its weights (computed once per guidance period, the
-    // same products as in the sum, so the normals are the same to the bit).
+    // `guidance_every` iterations, and so do its weights (computed once per guidance period). The
+    // spatial part (the centroids do not move) is recomputed with them rather than kept: one more
+    // exp per entry and period, against 8 bytes per entry (about 100 per face) held all along.
     if (params.kind == NormalFilterKind::Bilateral || guidance_changed) {
       const std::vector<Vec3> &kernel_normals =
           params.kind == NormalFilterKind::Guided ? guidance : out;
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
       for (int f = 0; f < m; ++f)
         for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k) {
-          const double dr = (kernel_normals[f] - kernel_normals[face_rings.faces[k]]).squaredNorm();
-          weight[k] = spatial_weight[k] * rangeKernel(range * dr);
+          const int g = face_rings.faces[k];
+          const double ds = (centroid[f] - centroid[g]).squaredNorm();
+          const double face_area = params.area_power == 0.0   ? 1.0
+                                   : params.area_power == 1.0 ? area[g]
+                                                              : std::pow(area[g], params.area_power);
+          const double spatial_weight = face_area * std::exp(spatial * ds);
+          const double dr = (kernel_normals[f] - kernel_normals[g]).squaredNorm();
+          weight[k] = spatial_weight * rangeKernel(range * dr);
         }
     }
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
@@ -282,6 +302,15 @@ inline void filterNormals(const std::vector<Face> &faces, const FaceRings &face_
     }
     out.swap(next);
   }
+}
+
+// Filters `geometry.normal` into `out` (unit normals, one per face).
+inline void filterNormals(const std::vector<Face> &faces, const FaceRings &face_rings,
+                          const FaceGeometry &geometry, const NormalFilterParams &params,
+                          double mean_edge, std::vector<Vec3> &out) {
+  (void)faces;
+  out = geometry.normal;
+  filterNormalsInPlace(face_rings, geometry.centroid, geometry.area, params, mean_edge, out);
 }
 
 } // namespace vcg_ext

@@ -68,7 +68,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
                                                 std::vector<Vec3> &out_points,
                                                 VertexQuantities &quantities,
                                                 const ProgressFn &progress = nullptr,
-                                                const DriverSetup *given_setup = nullptr) {
+                                                DriverSetup *given_setup = nullptr) {
   using clock = std::chrono::steady_clock;
   auto seconds = [](clock::time_point a) {
     return std::chrono::duration<double>(clock::now() - a).count();
@@ -81,7 +81,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   std::optional<detail::DriverSetup> own_setup;
   if (!given_setup)
     own_setup.emplace(detail::driverSetup(mesh, params.selected_only, params.boundary));
-  const detail::DriverSetup &setup = given_setup ? *given_setup : *own_setup;
+  detail::DriverSetup &setup = given_setup ? *given_setup : *own_setup;
   const Rings &rings = setup.rings;
   const detail::VertexRoles &roles = setup.roles;
   const std::vector<std::uint8_t> &fixed = setup.fixed;
@@ -168,6 +168,9 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   }
 
   if (progress && !progress(95, "Result quantities")) return report.cancelled = true, report;
+  // Only the result and the rings are read from here on (feature_smooth.h: the same).
+  geometry = FaceGeometry();
+  setup.face_rings = FaceRings();
   t = clock::now();
   report.vertices_moved = detail::describeResult(mesh.points, current, mesh.faces, rings,
                                                  params.saliency_scale * setup.stats.bbox_diagonal,
