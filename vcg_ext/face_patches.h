@@ -23,10 +23,20 @@ namespace vcg_ext {
 using HeightCoefficients = Eigen::Matrix<double, 9, 1>;
 
 struct FacePatch {
-  Vec3 origin = Vec3::Zero(), e1 = Vec3::UnitX(), e2 = Vec3::UnitY(), normal = Vec3::UnitZ();
+  Vec3 origin = Vec3::Zero(), normal = Vec3::UnitZ();
   double unit = 1;                                      // length of one local unit (mean edge)
   HeightCoefficients c = HeightCoefficients::Zero();    // zero: the plane (Sun's update)
   bool curved = false;                                  // c was fitted (else the plane)
+
+  // The patch's tangent frame (x along e1, y along e2): derived from the normal rather than
+  // stored (a patch per face on millions of faces). Any frame serves, the fit being rotation
+  // invariant; this one takes the axis least aligned with the normal.
+  static void tangentFrame(const Vec3 &n, Vec3 &e1, Vec3 &e2) {
+    const Vec3 axis = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : std::abs(n.y()) < 0.6 ? Vec3::UnitY()
+                                                                                     : Vec3::UnitZ();
+    e1 = (axis - n * n.dot(axis)).normalized();
+    e2 = n.cross(e1);
+  }
 
   // The height basis x^a y^b, index 3a + b, and its x and y derivatives.
   static HeightCoefficients basis(double x, double y) {
@@ -50,7 +60,12 @@ struct FacePatch {
   Vec3 projectAlongNormal(const Vec3 &p) const {
     const Vec3 d = (p - origin) / unit;
     const double z = d.dot(normal);
-    const double height = curved ? basis(d.dot(e1), d.dot(e2)).dot(c) : 0.0;
+    double height = 0.0;
+    if (curved) {
+      Vec3 e1, e2;
+      tangentFrame(normal, e1, e2);
+      height = basis(d.dot(e1), d.dot(e2)).dot(c);
+    }
     return p + normal * ((height - z) * unit);
   }
 };
@@ -117,11 +132,8 @@ inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vect
   out.curved = false;
   out.normal = n; // a zero normal makes the patch a no-op in the vertex update
   if (!(n.squaredNorm() > 0.5)) return false;
-  // Any tangent frame serves (the fit is rotation invariant); take the one least aligned with n.
-  const Vec3 axis = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : std::abs(n.y()) < 0.6 ? Vec3::UnitY()
-                                                                                   : Vec3::UnitZ();
-  out.e1 = (axis - n * n.dot(axis)).normalized();
-  out.e2 = n.cross(out.e1);
+  Vec3 e1, e2;
+  FacePatch::tangentFrame(n, e1, e2);
 
   Eigen::Matrix<double, 9, 9> M = Eigen::Matrix<double, 9, 9>::Zero();
   HeightCoefficients rhs = HeightCoefficients::Zero();
@@ -140,7 +152,7 @@ inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vect
     HeightCoefficients corner[3];
     for (int k = 0; k < 3; ++k) {
       const Vec3 d = (points[faces[*g][k]] - out.origin) / mean_edge;
-      x[k] = d.dot(out.e1), y[k] = d.dot(out.e2), z[k] = d.dot(n);
+      x[k] = d.dot(e1), y[k] = d.dot(e2), z[k] = d.dot(n);
       corner[k] = FacePatch::basis(x[k], y[k]);
     }
     const HeightCoefficients b = (corner[0] + corner[1] + corner[2]) / 3.0;
@@ -160,7 +172,7 @@ inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vect
       const double ws = w * params.slope_weight;
       detail::addLowerOuter(M, ws, gx);
       detail::addLowerOuter(M, ws, gy);
-      rhs.noalias() += ws * (-m.dot(out.e1) / along) * gx + ws * (-m.dot(out.e2) / along) * gy;
+      rhs.noalias() += ws * (-m.dot(e1) / along) * gx + ws * (-m.dot(e2) / along) * gy;
     }
   }
   if (!(total > 0)) return false;
