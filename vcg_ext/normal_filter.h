@@ -90,17 +90,14 @@ struct FaceRings {
 inline FaceRings computeFaceRings(const std::vector<Face> &faces, const Rings &rings) {
   FaceRings r;
   const int m = int(faces.size());
-  r.offsets.assign(m + 1, 0);
   r.edge_neighbours.assign(m, {-1, -1, -1});
-  std::vector<int> scratch;
-  for (int f = 0; f < m; ++f) {
-    scratch.clear();
+  // In parallel blocks, each list exactly sized (rings.h's buildCsrInBlocks).
+  detail::buildCsrInBlocks(m, r.offsets, r.faces, [&](int f, std::vector<int> &out) {
+    const size_t first = out.size();
     for (int k = 0; k < 3; ++k)
-      scratch.insert(scratch.end(), rings.facesBegin(faces[f][k]), rings.facesEnd(faces[f][k]));
-    std::sort(scratch.begin(), scratch.end());
-    scratch.erase(std::unique(scratch.begin(), scratch.end()), scratch.end());
-    r.faces.insert(r.faces.end(), scratch.begin(), scratch.end());
-    r.offsets[f + 1] = int(r.faces.size());
+      out.insert(out.end(), rings.facesBegin(faces[f][k]), rings.facesEnd(faces[f][k]));
+    std::sort(out.begin() + first, out.end());
+    out.erase(std::unique(out.begin() + first, out.end()), out.end());
     for (int k = 0; k < 3; ++k) {
       const int a = faces[f][k], b = faces[f][(k + 1) % 3];
       for (const int *g = rings.facesBegin(a); g != rings.facesEnd(a); ++g) {
@@ -111,7 +108,7 @@ inline FaceRings computeFaceRings(const std::vector<Face> &faces, const Rings &r
         }
       }
     }
-  }
+  });
   return r;
 }
 
