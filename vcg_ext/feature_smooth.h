@@ -112,6 +112,19 @@ inline Eigen::Matrix3d featureTangentProjector(int v, const Rings &rings,
   return P;
 }
 
+// A symmetric 3×3 matrix (the tangent projectors) in its six distinct entries: 48 instead of 72
+// bytes per vertex; unpacked it is the same matrix to the bit (a projector I − Σ e eᵀ is exactly
+// symmetric: e_i e_j and e_j e_i are the same product).
+using SymmetricMatrix3 = std::array<double, 6>;
+inline SymmetricMatrix3 packSymmetric(const Eigen::Matrix3d &P) {
+  return {P(0, 0), P(1, 0), P(2, 0), P(1, 1), P(2, 1), P(2, 2)};
+}
+inline Eigen::Matrix3d unpackSymmetric(const SymmetricMatrix3 &s) {
+  Eigen::Matrix3d P;
+  P << s[0], s[1], s[2], s[1], s[3], s[4], s[2], s[4], s[5];
+  return P;
+}
+
 } // namespace detail
 
 // `given_setup` (optional): the topology and roles of `mesh` with the same selected_only, when the
@@ -197,17 +210,16 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
 
   // Buffers live only while their stage runs, so that the normal filter's peak (its weights) and
   // the patch fits' do not add up with each other's.
-  std::vector<Vec3> filtered, next, vertex_normals;
-  std::vector<FacePatch> patches;
-  std::vector<Eigen::Matrix3d> tangent_projector;
-  std::vector<std::uint8_t> relax(n, 1), relax_next(n, 1);
+  std::vector<Vec3> filtered, next, vertex_normals, centroid;
+  FacePatches patches;
+  std::vector<detail::SymmetricMatrix3> tangent_projector;
+  std::vector<std::uint8_t> relax(n, 1), relax_next(n, 1), folded;
   for (int pass = 0; pass < outer && edge > 0; ++pass) {
     t = clock::now();
-    std::vector<Eigen::Matrix3d>().swap(tangent_projector);
+    std::vector<detail::SymmetricMatrix3>().swap(tangent_projector);
     std::vector<Vec3>().swap(next);
     computeFaceGeometry(current, mesh.faces, geometry);
-    // The filter starts from the face normals and works in place; the vertex updates recompute
-    // the geometry anyway.
+    // The filter starts from the face normals and works in place.
     filtered.swap(geometry.normal);
     std::vector<Vec3>().swap(geometry.normal);
     // The first-pass check sees the normals after the first guidance period; the filter then
@@ -238,39 +250,52 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
       tangent_projector.resize(n);
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
       for (int v = 0; v < n; ++v)
-        tangent_projector[v] = rings.boundary[v] || fixed[v]
-                                   ? Eigen::Matrix3d::Zero()
-                                   : detail::featureTangentProjector(v, rings, filtered);
+        tangent_projector[v] = detail::packSymmetric(
+            rings.boundary[v] || fixed[v] ? Eigen::Matrix3d::Zero()
+                                          : detail::featureTangentProjector(v, rings, filtered));
     }
+    // The vertex updates need neither the filter's areas nor its centroids (they take the moving
+    // vertices' centroids), and after the last filtering nothing reads the faces' edge neighbours.
+    geometry = FaceGeometry();
+    if (pass == outer - 1)
+      std::vector<std::array<int, 3>>().swap(setup.face_rings.edge_neighbours);
     report.seconds_normals += seconds(t);
     if (!report_progress(pass, 0.4, "Filtering normals")) return report.cancelled = true, report;
 
     t = clock::now();
     for (int it = 0; it < vertex_iterations; ++it) {
-      computeFaceGeometry(current, mesh.faces, geometry);
       // Patches refine the last pass only: measured, earlier passes gain little from them for
       // their cost (a fit per face is most of a pass's time).
       const bool use_patches = pass == outer - 1 && it >= vertex_iterations - params.patch_iterations;
       long fallbacks = 0, rejected = 0;
+      if (!use_patches) computeFaceCentroids(current, mesh.faces, centroid);
       if (use_patches) {
-        patches.resize(face_count);
+        std::vector<Vec3>().swap(centroid);
         const std::vector<double> face_alpha =
             params.alpha_override ? std::vector<double>()
                                   : detail::saliencyFaceAlpha(current, mesh.faces, setup,
                                                               params.saliency_scale * stats.bbox_diagonal);
-        fallbacks = fitFacePatches(current, mesh.faces, face_rings, geometry, filtered, edge,
-                                   params.patches, face_alpha, patches);
+        fallbacks = fitFacePatches(current, mesh.faces, face_rings, filtered, edge, params.patches,
+                                   face_alpha, patches);
       }
       // Boundary moves keep off the inward direction, which needs the surface normal there.
       if (report.boundary_vertices) computeVertexNormals(current, mesh.faces, rings, vertex_normals);
       // Folds: faces whose normal is far from their filtered normal; the relaxation works around
       // them only, so a clean or unfolded mesh keeps its triangulation.
       if (params.tangential > 0 && params.relax_rings >= 0) {
+        folded.resize(face_count);
+#pragma omp parallel for schedule(static) if (face_count >= min_parallel_vertices)
+        for (int f = 0; f < face_count; ++f) {
+          const Face &t = mesh.faces[f];
+          double len;
+          folded[f] = detail::unitFaceNormal(current[t[0]], current[t[1]], current[t[2]], len)
+                          .dot(filtered[f]) < params.fold_cos;
+        }
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
         for (int v = 0; v < n; ++v) {
           std::uint8_t near = 0;
           for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v) && !near; ++f)
-            near = geometry.normal[*f].dot(filtered[*f]) < params.fold_cos;
+            near = folded[*f];
           relax[v] = near;
         }
         for (int ring = 0; ring < params.relax_rings; ++ring) {
@@ -289,14 +314,16 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
         next[v] = current[v];
         if (fixed[v] || rings.ring1Size(v) == 0) continue;
         Vec3 moved = use_patches ? moveOntoFacePatches(v, current[v], rings, patches)
-                                 : moveOntoFacePlanes(v, current[v], rings, geometry.centroid,
-                                                      filtered, edge);
+                                 : moveOntoFacePlanes(v, current[v], rings, centroid, filtered,
+                                                      edge);
         if (params.tangential > 0 && relax[v]) {
           Vec3 centre = Vec3::Zero();
           for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) centre += current[*w];
           const Vec3 step = centre / rings.ring1Size(v) - current[v];
           // On the boundary, the rule below keeps what may stay of the step.
-          moved += params.tangential * (rings.boundary[v] ? step : Vec3(tangent_projector[v] * step));
+          moved += params.tangential *
+                   (rings.boundary[v] ? step
+                                      : Vec3(detail::unpackSymmetric(tangent_projector[v]) * step));
         }
         if (rings.boundary[v])
           moved = detail::constrainBoundaryMove(v, moved, current, vertex_normals, roles,
@@ -322,8 +349,9 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   std::vector<Vec3>().swap(filtered);
   std::vector<Vec3>().swap(next);
   std::vector<Vec3>().swap(vertex_normals);
-  std::vector<FacePatch>().swap(patches);
-  std::vector<Eigen::Matrix3d>().swap(tangent_projector);
+  std::vector<Vec3>().swap(centroid);
+  patches = FacePatches();
+  std::vector<detail::SymmetricMatrix3>().swap(tangent_projector);
   geometry = FaceGeometry();
   setup.face_rings = FaceRings();
   t = clock::now();

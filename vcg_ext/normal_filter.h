@@ -63,6 +63,16 @@ inline void computeFaceGeometry(const std::vector<Vec3> &points, const std::vect
   }
 }
 
+// The face centroids alone (computeFaceGeometry's).
+inline void computeFaceCentroids(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                 std::vector<Vec3> &centroid) {
+  const int m = int(faces.size());
+  centroid.resize(m);
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
+  for (int f = 0; f < m; ++f)
+    centroid[f] = (points[faces[f][0]] + points[faces[f][1]] + points[faces[f][2]]) / 3.0;
+}
+
 // The unit face normals alone (computeFaceGeometry's, without areas and centroids).
 inline void computeFaceNormals(const std::vector<Vec3> &points, const std::vector<Face> &faces,
                                std::vector<Vec3> &normals) {

@@ -75,7 +75,6 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   };
   OrganicSmoothReport report;
   const int n = int(mesh.points.size());
-  const int face_count = int(mesh.faces.size());
   auto t = clock::now();
   // `given_setup`: as in featureSmoothMesh, the topology when the caller has it already.
   std::optional<detail::DriverSetup> own_setup;
@@ -92,10 +91,12 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   report.frozen_vertices = setup.frozen_vertices;
   report.boundary_vertices = setup.boundary_vertices;
   report.volume_before = setup.volume_before;
-  FaceGeometry geometry;
-  computeFaceGeometry(mesh.points, mesh.faces, geometry);
-  report.dihedral_spread_deg =
-      medianDihedralSpreadDeg(mesh.points, mesh.faces, geometry, setup.face_rings);
+  {
+    FaceGeometry geometry;
+    computeFaceGeometry(mesh.points, mesh.faces, geometry);
+    report.dihedral_spread_deg =
+        medianDihedralSpreadDeg(mesh.points, mesh.faces, geometry, setup.face_rings);
+  }
   report.roughness = detail::roughnessOf(report.dihedral_spread_deg, params.clean_spread_deg,
                                          params.noisy_spread_deg);
   report.seconds_topology = seconds(t);
@@ -122,8 +123,8 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     if (report.bands.cancelled) return report.cancelled = true, report;
 
     t = clock::now();
-    std::vector<Vec3> next(current), vertex_normals;
-    std::vector<FacePatch> patches(face_count);
+    std::vector<Vec3> next(current), vertex_normals, face_normals;
+    FacePatches patches;
     // Patches take out curvature bias where the mesh is smooth at the scale of a face's
     // neighbourhood and add error where it has detail at that scale (measured with the earlier
     // 0.5/-0.53 bands: lion head 7.17 -> 7.01 with two updates, armadillo 10.57 -> 10.94): each
@@ -133,15 +134,14 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     const int patch_updates = report.patch_step > 0 ? params.max_patch_updates : 0;
     report.patch_updates = patch_updates;
     for (int update = 0; update < patch_updates; ++update) {
-      computeFaceGeometry(current, mesh.faces, geometry);
+      computeFaceNormals(current, mesh.faces, face_normals);
       long rejected = 0;
       const std::vector<double> face_alpha =
           params.alpha_override ? std::vector<double>()
                                 : detail::saliencyFaceAlpha(current, mesh.faces, setup,
                                                             params.saliency_scale * setup.stats.bbox_diagonal);
-      const long fallbacks = fitFacePatches(current, mesh.faces, setup.face_rings, geometry,
-                                            geometry.normal, edge, params.patches, face_alpha,
-                                            patches);
+      const long fallbacks = fitFacePatches(current, mesh.faces, setup.face_rings, face_normals,
+                                            edge, params.patches, face_alpha, patches);
       if (report.boundary_vertices) computeVertexNormals(current, mesh.faces, rings, vertex_normals);
 #pragma omp parallel for schedule(static) reduction(+ : rejected) if (n >= min_parallel_vertices)
       for (int v = 0; v < n; ++v) {
@@ -169,7 +169,6 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
 
   if (progress && !progress(95, "Result quantities")) return report.cancelled = true, report;
   // Only the result and the rings are read from here on (feature_smooth.h: the same).
-  geometry = FaceGeometry();
   setup.face_rings = FaceRings();
   t = clock::now();
   report.vertices_moved = detail::describeResult(mesh.points, current, mesh.faces, rings,

@@ -146,3 +146,35 @@ TEST(FacePatches, PlaneUpdateIsThePatchUpdateWithFlatPatchesToTheBit) {
               moveOntoFacePatches(v, m.points[v], s.rings, planes))
         << "vertex " << v;
 }
+
+TEST(FacePatches, CompactPatchesAreTheFittedPatchesToTheBit) {
+  // fitFacePatches keeps per face only the coefficients (the origin and normal are read back from
+  // the fit's arrays, the areas recomputed): every patch, and every vertex update onto the
+  // patches, must be exactly what one FacePatch per face (fitFacePatch) gives.
+  MeshArrays m = test_meshes::icosphere(1.0, 3);
+  test_meshes::addNoise(m, 0.03, 7);
+  const PatchSetup s(m);
+  std::vector<Vec3> normals = s.geometry.normal;
+  for (size_t f = 0; f < normals.size(); ++f)
+    normals[f] = (normals[f] + Vec3(0.05 * std::sin(3.0 * f), 0.05 * std::cos(f), 0.0)).normalized();
+  const std::vector<FacePatch> each = s.patches(normals);
+  FacePatches compact;
+  const long fallbacks =
+      fitFacePatches(m.points, m.faces, s.face_rings, normals, s.edge, FacePatchParams(), {}, compact);
+  ASSERT_EQ(compact.size(), each.size());
+  long curved = 0;
+  for (int f = 0; f < int(each.size()); ++f) {
+    const FacePatch p = compact.patch(f);
+    ASSERT_EQ(p.c, each[f].c) << "face " << f;
+    ASSERT_EQ(p.curved, each[f].curved) << "face " << f;
+    ASSERT_EQ(p.origin, each[f].origin) << "face " << f;
+    ASSERT_EQ(p.normal, each[f].normal) << "face " << f;
+    curved += p.curved;
+  }
+  EXPECT_EQ(curved + fallbacks, long(each.size()));
+  EXPECT_GT(curved, long(each.size()) / 2);
+  for (int v = 0; v < int(m.points.size()); ++v)
+    ASSERT_EQ(moveOntoFacePatches(v, m.points[v], s.rings, compact),
+              moveOntoFacePatches(v, m.points[v], s.rings, each))
+        << "vertex " << v;
+}
