@@ -16,6 +16,9 @@
 #include "rings.h"
 
 #include <Eigen/Geometry>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -201,72 +204,124 @@ struct NormalFilterParams {
 
 namespace detail {
 
+using Normal3f = Eigen::Vector3f;
+
+// The largest squared distance between two of `count` unit vectors given as coordinate arrays
+// padded to a multiple of 4 (the padding repeats a real vector, so it adds no new distance).
+// Each i is compared with the j from (i + 1) rounded down to a multiple of 4: the j <= i among
+// them are pairs seen from the other side or i itself (distance 0), so the maximum is the same as
+// over the pairs i < j, and it is exact whatever the order (no rounding in a maximum).
+inline float largestSquaredDistance(const float *xs, const float *ys, const float *zs, int count,
+                                    int padded) {
+  float largest2 = 0;
+#ifdef __SSE2__
+  __m128 best = _mm_setzero_ps();
+  for (int i = 0; i + 1 < count; ++i) {
+    const __m128 xi = _mm_set1_ps(xs[i]), yi = _mm_set1_ps(ys[i]), zi = _mm_set1_ps(zs[i]);
+    for (int j = (i + 1) & ~3; j < padded; j += 4) {
+      const __m128 dx = _mm_sub_ps(xi, _mm_load_ps(xs + j)), dy = _mm_sub_ps(yi, _mm_load_ps(ys + j)),
+                   dz = _mm_sub_ps(zi, _mm_load_ps(zs + j));
+      const __m128 d2 =
+          _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
+      best = _mm_max_ps(best, d2);
+    }
+  }
+  alignas(16) float lanes[4];
+  _mm_store_ps(lanes, best);
+  for (float l : lanes) largest2 = l > largest2 ? l : largest2;
+#else
+  for (int i = 0; i + 1 < count; ++i)
+    for (int j = (i + 1) & ~3; j < padded; ++j) {
+      const float dx = xs[i] - xs[j], dy = ys[i] - ys[j], dz = zs[i] - zs[j];
+      const float d2 = (dx * dx + dy * dy) + dz * dz;
+      largest2 = d2 > largest2 ? d2 : largest2;
+    }
+#endif
+  return largest2;
+}
+
 // GNF's patch consistency H = D·R of the vertex ring of `f` (smaller: more consistent): D the
 // largest normal difference in the patch, R the largest normal jump across one of its inner edges
 // over the sum of those jumps. Also the patch's area-weighted mean normal, the guidance it offers.
-inline void patchConsistency(int f, const FaceRings &face_rings, const std::vector<Vec3> &normals,
-                             const std::vector<double> &area, double &consistency,
-                             Vec3 &mean_normal) {
-  // The patch's normals are gathered first (the pair loop reads each a dozen times), and the
-  // maxima are taken without branches (mispredicted ones took a fifth of the time).
+// On the filter's single-precision normals; the mean is summed in double.
+inline void patchConsistency(int f, const FaceRings &face_rings, const std::vector<Normal3f> &normals,
+                             const std::vector<double> &area, float &consistency,
+                             Normal3f &mean_normal) {
+  // The patch's normals are gathered first (the pair loop reads each a dozen times), as
+  // coordinate arrays for the four-wide pair loop.
   constexpr int kOnStack = 32;
   const int *ring = face_rings.begin(f);
   const int size = face_rings.size(f);
-  std::array<Vec3, kOnStack> on_stack;
-  std::vector<Vec3> on_heap(size > kOnStack ? size : 0);
-  Vec3 *local = size > kOnStack ? on_heap.data() : on_stack.data();
-  double largest2 = 0, largest_jump = 0, jump_sum = 0;
+  const int padded = (size + 3) & ~3;
+  alignas(16) float on_stack[3][kOnStack];
+  std::vector<float> on_heap(padded > kOnStack ? 3 * size_t(padded) + 4 : 0);
+  float *xs = on_stack[0], *ys = on_stack[1], *zs = on_stack[2];
+  if (padded > kOnStack) {
+    // 16-byte aligned inside the heap block.
+    float *base = on_heap.data();
+    while (reinterpret_cast<std::uintptr_t>(base) % 16 != 0) ++base;
+    xs = base, ys = base + padded, zs = base + 2 * padded;
+  }
   Vec3 sum = Vec3::Zero();
   for (int i = 0; i < size; ++i) {
-    local[i] = normals[ring[i]];
-    sum += area[ring[i]] * local[i];
+    const Normal3f &n = normals[ring[i]];
+    xs[i] = n.x(), ys[i] = n.y(), zs[i] = n.z();
+    sum += area[ring[i]] * n.cast<double>();
   }
+  for (int i = size; i < padded; ++i) xs[i] = xs[size - 1], ys[i] = ys[size - 1], zs[i] = zs[size - 1];
+  const float largest2 = largestSquaredDistance(xs, ys, zs, size, padded);
+  float largest_jump = 0, jump_sum = 0;
   for (int i = 0; i < size; ++i) {
-    for (int j = i + 1; j < size; ++j) {
-      const double d2 = (local[i] - local[j]).squaredNorm();
-      largest2 = d2 > largest2 ? d2 : largest2;
-    }
     // Inner edges, each once (from its lower face index); the ring is sorted.
     for (int b : face_rings.edge_neighbours[ring[i]]) {
       if (b <= ring[i]) continue;
       const int *at = std::lower_bound(ring + i + 1, ring + size, b);
       if (at == ring + size || *at != b) continue;
-      const double d = (local[i] - local[at - ring]).norm();
+      const int j = int(at - ring);
+      const float dx = xs[i] - xs[j], dy = ys[i] - ys[j], dz = zs[i] - zs[j];
+      const float d = std::sqrt((dx * dx + dy * dy) + dz * dz);
       largest_jump = d > largest_jump ? d : largest_jump;
       jump_sum += d;
     }
   }
-  consistency = std::sqrt(largest2) * largest_jump / (1e-9 + jump_sum);
+  consistency = std::sqrt(largest2) * largest_jump / (1e-9f + jump_sum);
   const double len = sum.norm();
-  mean_normal = len > 0 ? Vec3(sum / len) : normals[f];
+  mean_normal = len > 0 ? Normal3f((sum / len).cast<float>()) : normals[f];
 }
 
 } // namespace detail
 
 // Filters face normals in place: `normals` holds the faces' unit normals on entry and the filtered
 // ones on return; `centroid` and `area` are the faces' (FaceGeometry), unchanged while filtering.
-// Memory: three face-sized vectors and one weight per face-ring entry, allocated once per call.
-// The weights are kept in single precision (4 bytes per entry, about 50 per face): a weight's
-// rounding (6e-8 relative) moves a filtered normal by about as much, far below what the filter
-// resolves, and the sum itself runs in double.
+// The filter's state is kept in single precision (normals, guidance, consistency and the weights
+// per face-ring entry; sums and weights are computed in double): about half the memory (the
+// weights, 4 bytes per face-ring entry, are most of it) and half the memory traffic. A normal's
+// float rounding (6e-8) is far below what the filter resolves. The result is the same for any
+// thread count (every face is written by one thread from the previous iteration's values).
+// `normals`' own buffer is released while the filter runs.
 inline void filterNormalsInPlace(const FaceRings &face_rings, const std::vector<Vec3> &centroid,
                                  const std::vector<double> &area,
                                  const NormalFilterParams &params, double mean_edge,
                                  std::vector<Vec3> &normals) {
+  using detail::Normal3f;
   const int m = int(normals.size());
   if (params.iterations <= 0 || m == 0) return;
-  std::vector<Vec3> &out = normals;
-  std::vector<Vec3> next(m), guidance(params.kind == NormalFilterKind::Guided ? m : 0);
-  std::vector<double> consistency(params.kind == NormalFilterKind::Guided ? m : 0);
-  std::vector<float> weight(face_rings.faces.size());
+  const bool guided = params.kind == NormalFilterKind::Guided;
+  std::vector<Normal3f> out(m), next(m), guidance;
+  std::vector<float> consistency, weight;
+  for (int f = 0; f < m; ++f) out[f] = normals[f].cast<float>();
+  std::vector<Vec3>().swap(normals);
   const double spatial = -0.5 / std::pow(params.sigma_s * mean_edge, 2);
   const double range = -0.5 / (params.sigma_r * params.sigma_r);
   for (int it = 0; it < params.iterations; ++it) {
-    const bool guidance_changed =
-        params.kind == NormalFilterKind::Guided && it % std::max(1, params.guidance_every) == 0;
+    const bool guidance_changed = guided && it % std::max(1, params.guidance_every) == 0;
     if (guidance_changed) {
-      // The patches' mean normals go to `next`, free until the sum below.
-      std::vector<Vec3> &patch_normal = next;
+      // The previous period's weights are not needed any more; the patches' mean normals go to
+      // `next`, free until the sum below.
+      std::vector<float>().swap(weight);
+      consistency.resize(m);
+      guidance.resize(m);
+      std::vector<Normal3f> &patch_normal = next;
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
       for (int f = 0; f < m; ++f)
         detail::patchConsistency(f, face_rings, out, area, consistency[f], patch_normal[f]);
@@ -281,37 +336,43 @@ inline void filterNormalsInPlace(const FaceRings &face_rings, const std::vector<
             best = *g;
         guidance[f] = patch_normal[best];
       }
+      std::vector<float>().swap(consistency);
     }
     // The weights change with the kernel normals only: the guided filter's guidance stays for
     // `guidance_every` iterations, and so do its weights (computed once per guidance period). The
     // spatial part (the centroids do not move) is recomputed with them rather than kept: one more
-    // exp per entry and period, against 8 bytes per entry (about 100 per face) held all along.
-    if (params.kind == NormalFilterKind::Bilateral || guidance_changed) {
-      const std::vector<Vec3> &kernel_normals =
-          params.kind == NormalFilterKind::Guided ? guidance : out;
+    // exp per entry and period, against another array per face-ring entry held all along.
+    if (!guided || guidance_changed) {
+      const std::vector<Normal3f> &kernel_normals = guided ? guidance : out;
+      weight.resize(face_rings.faces.size());
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
-      for (int f = 0; f < m; ++f)
+      for (int f = 0; f < m; ++f) {
+        const Vec3 own = kernel_normals[f].cast<double>();
         for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k) {
           const int g = face_rings.faces[k];
           const double ds = (centroid[f] - centroid[g]).squaredNorm();
           const double face_area = params.area_power == 0.0   ? 1.0
                                    : params.area_power == 1.0 ? area[g]
                                                               : std::pow(area[g], params.area_power);
-          const double spatial_weight = face_area * std::exp(spatial * ds);
-          const double dr = (kernel_normals[f] - kernel_normals[g]).squaredNorm();
-          weight[k] = float(spatial_weight * rangeKernel(range * dr));
+          const double dr = (own - kernel_normals[g].cast<double>()).squaredNorm();
+          weight[k] = float(face_area * std::exp(spatial * ds) * rangeKernel(range * dr));
         }
+      }
+      if (guided) std::vector<Normal3f>().swap(guidance);
     }
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
     for (int f = 0; f < m; ++f) {
       Vec3 sum = Vec3::Zero();
       for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k)
-        sum += double(weight[k]) * out[face_rings.faces[k]];
+        sum += double(weight[k]) * out[face_rings.faces[k]].cast<double>();
       const double len = sum.norm();
-      next[f] = len > 0 && std::isfinite(len) ? Vec3(sum / len) : out[f];
+      next[f] = len > 0 && std::isfinite(len) ? Normal3f((sum / len).cast<float>()) : out[f];
     }
     out.swap(next);
   }
+  std::vector<Normal3f>().swap(next);
+  normals.resize(m);
+  for (int f = 0; f < m; ++f) normals[f] = out[f].cast<double>();
 }
 
 // Filters `geometry.normal` into `out` (unit normals, one per face).
