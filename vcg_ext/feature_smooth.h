@@ -218,6 +218,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
     t = clock::now();
     std::vector<detail::SymmetricMatrix3>().swap(tangent_projector);
     std::vector<Vec3>().swap(next);
+    std::vector<Vec3>().swap(centroid);
     computeFaceGeometry(current, mesh.faces, geometry);
     // The filter starts from the face normals and works in place.
     filtered.swap(geometry.normal);
