@@ -215,12 +215,13 @@ inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vect
       [&](int g) { return geometry.area[g]; }, filtered, mean_area, mean_edge, params, out);
 }
 
-// Every face's patch, compactly: per face the height coefficients and whether they were fitted
-// (73 bytes instead of a FacePatch's 136). The rest of a FacePatch is read back from the arrays
-// the fit was given (origin: the face's centroid; normal: the normal it was fitted with), which
-// must stay as they were while the patches are used.
+// Every face's patch, compactly: per face the height coefficients in single precision and whether
+// they were fitted (37 bytes instead of a FacePatch's 136; a coefficient's rounding moves a vertex
+// by ~1e-7 mean edge lengths). The rest of a FacePatch is read back from the arrays the fit was
+// given (origin: the face's centroid; normal: the normal it was fitted with), which must stay as
+// they were while the patches are used.
 struct FacePatches {
-  std::vector<HeightCoefficients> c;
+  std::vector<Eigen::Matrix<float, 9, 1>> c;
   std::vector<std::uint8_t> curved;
   const std::vector<Vec3> *points = nullptr, *normals = nullptr;
   const std::vector<Face> *faces = nullptr;
@@ -232,13 +233,13 @@ struct FacePatches {
     p.origin = detail::faceCentroid(*points, (*faces)[f]);
     p.normal = (*normals)[f];
     p.unit = unit;
-    p.c = c[f];
+    p.c = c[f].cast<double>();
     p.curved = curved[f] != 0;
     return p;
   }
   Vec3 projectAlongNormal(int f, const Vec3 &p) const {
-    return FacePatch::project(detail::faceCentroid(*points, (*faces)[f]), (*normals)[f], unit, c[f],
-                              curved[f] != 0, p);
+    return FacePatch::project(detail::faceCentroid(*points, (*faces)[f]), (*normals)[f], unit,
+                              c[f].cast<double>(), curved[f] != 0, p);
   }
 };
 
@@ -274,7 +275,7 @@ inline long fitFacePatches(const std::vector<Vec3> &points, const std::vector<Fa
     fallbacks += !detail::fitFacePatchAt(f, detail::faceCentroid(points, faces[f]), points, faces,
                                          face_rings, [&](int g) { return area[g]; }, normals,
                                          mean_area, mean_edge, own, fitted);
-    patches.c[f] = fitted.c;
+    patches.c[f] = fitted.c.cast<float>();
     patches.curved[f] = fitted.curved;
   }
   return fallbacks;
