@@ -194,6 +194,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   // armadillo: 11°; clean elephant at r = 0.3: 11°). The price: noise below ~0.12 mean edge
   // lengths is left as it is.
   report.dihedral_spread_deg = medianDihedralSpreadDeg(current, mesh.faces, geometry, face_rings);
+  geometry = FaceGeometry(); // (the noise estimate's only)
   report.roughness = detail::roughnessOf(report.dihedral_spread_deg, params.clean_spread_deg,
                                          params.noisy_spread_deg);
   report.amount = detail::strengthen(report.roughness, params.strength);
@@ -219,10 +220,8 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
     std::vector<detail::SymmetricMatrix3>().swap(tangent_projector);
     std::vector<Vec3>().swap(next);
     std::vector<Vec3>().swap(centroid);
-    computeFaceGeometry(current, mesh.faces, geometry);
     // The filter starts from the face normals and works in place.
-    filtered.swap(geometry.normal);
-    std::vector<Vec3>().swap(geometry.normal);
+    computeFaceNormals(current, mesh.faces, filtered);
     // The first-pass check sees the normals after the first guidance period; the filter then
     // goes on from there (guidance is recomputed every `guidance_every` iterations from the
     // current normals and the spatial weights depend on the unchanged geometry, so the split
@@ -234,17 +233,16 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
     if (check_iterations > 0) {
       NormalFilterParams first = normal_filter;
       first.iterations = check_iterations;
-      filterNormalsInPlace(face_rings, geometry.centroid, geometry.area, first, edge, filtered);
+      filterNormalsInPlace(current, mesh.faces, face_rings, first, edge, filtered);
       if (!first_pass_check(filtered, setup)) {
         report.seconds_normals += seconds(t);
         return report.declined = true, report;
       }
       NormalFilterParams rest = normal_filter;
       rest.iterations = normal_filter.iterations - check_iterations;
-      filterNormalsInPlace(face_rings, geometry.centroid, geometry.area, rest, edge, filtered);
+      filterNormalsInPlace(current, mesh.faces, face_rings, rest, edge, filtered);
     } else {
-      filterNormalsInPlace(face_rings, geometry.centroid, geometry.area, normal_filter, edge,
-                           filtered);
+      filterNormalsInPlace(current, mesh.faces, face_rings, normal_filter, edge, filtered);
     }
     next.resize(n);
     if (params.tangential > 0) {
@@ -255,9 +253,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
             rings.boundary[v] || fixed[v] ? Eigen::Matrix3d::Zero()
                                           : detail::featureTangentProjector(v, rings, filtered));
     }
-    // The vertex updates need neither the filter's areas nor its centroids (they take the moving
-    // vertices' centroids), and after the last filtering nothing reads the faces' edge neighbours.
-    geometry = FaceGeometry();
+    // After the last filtering nothing reads the faces' edge neighbours.
     if (pass == outer - 1)
       std::vector<std::array<int, 3>>().swap(setup.face_rings.edge_neighbours);
     report.seconds_normals += seconds(t);
@@ -353,7 +349,6 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   std::vector<Vec3>().swap(centroid);
   patches = FacePatches();
   std::vector<detail::SymmetricMatrix3>().swap(tangent_projector);
-  geometry = FaceGeometry();
   setup.face_rings = FaceRings();
   t = clock::now();
   report.vertices_moved = detail::describeResult(mesh.points, current, mesh.faces, rings,

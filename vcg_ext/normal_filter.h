@@ -245,7 +245,7 @@ inline float largestSquaredDistance(const float *xs, const float *ys, const floa
 // over the sum of those jumps. Also the patch's area-weighted mean normal, the guidance it offers.
 // On the filter's single-precision normals; the mean is summed in double.
 inline void patchConsistency(int f, const FaceRings &face_rings, const std::vector<Normal3f> &normals,
-                             const std::vector<double> &area, float &consistency,
+                             const std::vector<float> &area, float &consistency,
                              Normal3f &mean_normal) {
   // The patch's normals are gathered first (the pair loop reads each a dozen times), as
   // coordinate arrays for the four-wide pair loop.
@@ -266,7 +266,7 @@ inline void patchConsistency(int f, const FaceRings &face_rings, const std::vect
   for (int i = 0; i < size; ++i) {
     const Normal3f &n = normals[ring[i]];
     xs[i] = n.x(), ys[i] = n.y(), zs[i] = n.z();
-    sum += area[ring[i]] * n.cast<double>();
+    sum += double(area[ring[i]]) * n.cast<double>();
   }
   for (int i = size; i < padded; ++i) xs[i] = xs[size - 1], ys[i] = ys[size - 1], zs[i] = zs[size - 1];
   const float largest2 = largestSquaredDistance(xs, ys, zs, size, padded);
@@ -291,24 +291,21 @@ inline void patchConsistency(int f, const FaceRings &face_rings, const std::vect
 
 } // namespace detail
 
-// Filters face normals in place: `normals` holds the faces' unit normals on entry and the filtered
-// ones on return; `centroid` and `area` are the faces' (FaceGeometry), unchanged while filtering.
-// The filter's state is kept in single precision (normals, guidance, consistency and the weights
-// per face-ring entry; sums and weights are computed in double): about half the memory (the
-// weights, 4 bytes per face-ring entry, are most of it) and half the memory traffic. A normal's
-// float rounding (6e-8) is far below what the filter resolves. The result is the same for any
-// thread count (every face is written by one thread from the previous iteration's values).
-// `normals`' own buffer is released while the filter runs.
-inline void filterNormalsInPlace(const FaceRings &face_rings, const std::vector<Vec3> &centroid,
-                                 const std::vector<double> &area,
-                                 const NormalFilterParams &params, double mean_edge,
-                                 std::vector<Vec3> &normals) {
-  using detail::Normal3f;
+namespace detail {
+
+// The normal filter on `normals` in place (see filterNormalsInPlace): `area` per face, and
+// `centroids(scratch)` returning the faces' centroids, asked for once per weight computation
+// (scratch: where to put them if they are computed; it is freed after each use).
+template <class Centroids>
+void filterNormalsCore(const FaceRings &face_rings, const std::vector<float> &area,
+                       Centroids centroids, const NormalFilterParams &params, double mean_edge,
+                       std::vector<Vec3> &normals) {
   const int m = int(normals.size());
   if (params.iterations <= 0 || m == 0) return;
   const bool guided = params.kind == NormalFilterKind::Guided;
-  std::vector<Normal3f> out(m), next(m), guidance;
+  std::vector<Normal3f> out(m), next, guidance;
   std::vector<float> consistency, weight;
+  std::vector<Vec3> centroid_scratch;
   for (int f = 0; f < m; ++f) out[f] = normals[f].cast<float>();
   std::vector<Vec3>().swap(normals);
   const double spatial = -0.5 / std::pow(params.sigma_s * mean_edge, 2);
@@ -316,17 +313,19 @@ inline void filterNormalsInPlace(const FaceRings &face_rings, const std::vector<
   for (int it = 0; it < params.iterations; ++it) {
     const bool guidance_changed = guided && it % std::max(1, params.guidance_every) == 0;
     if (guidance_changed) {
-      // The previous period's weights are not needed any more; the patches' mean normals go to
-      // `next`, free until the sum below.
+      // The previous period's weights are not needed any more. Only what a step needs is held:
+      // the patches' mean normals (in `next`) and consistencies until the guidance is chosen,
+      // the guidance and the centroids until the weights are made.
       std::vector<float>().swap(weight);
       consistency.resize(m);
-      guidance.resize(m);
+      next.resize(m);
       std::vector<Normal3f> &patch_normal = next;
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
       for (int f = 0; f < m; ++f)
-        detail::patchConsistency(f, face_rings, out, area, consistency[f], patch_normal[f]);
+        patchConsistency(f, face_rings, out, area, consistency[f], patch_normal[f]);
       // Each face takes the mean normal of the most consistent patch that contains it; the
       // lowest face index breaks ties so the choice does not depend on the order of the scan.
+      guidance.resize(m);
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
       for (int f = 0; f < m; ++f) {
         int best = f;
@@ -337,6 +336,7 @@ inline void filterNormalsInPlace(const FaceRings &face_rings, const std::vector<
         guidance[f] = patch_normal[best];
       }
       std::vector<float>().swap(consistency);
+      std::vector<Normal3f>().swap(next);
     }
     // The weights change with the kernel normals only: the guided filter's guidance stays for
     // `guidance_every` iterations, and so do its weights (computed once per guidance period). The
@@ -344,6 +344,7 @@ inline void filterNormalsInPlace(const FaceRings &face_rings, const std::vector<
     // exp per entry and period, against another array per face-ring entry held all along.
     if (!guided || guidance_changed) {
       const std::vector<Normal3f> &kernel_normals = guided ? guidance : out;
+      const std::vector<Vec3> &centroid = centroids(centroid_scratch);
       weight.resize(face_rings.faces.size());
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
       for (int f = 0; f < m; ++f) {
@@ -352,14 +353,16 @@ inline void filterNormalsInPlace(const FaceRings &face_rings, const std::vector<
           const int g = face_rings.faces[k];
           const double ds = (centroid[f] - centroid[g]).squaredNorm();
           const double face_area = params.area_power == 0.0   ? 1.0
-                                   : params.area_power == 1.0 ? area[g]
-                                                              : std::pow(area[g], params.area_power);
+                                   : params.area_power == 1.0 ? double(area[g])
+                                                              : std::pow(double(area[g]), params.area_power);
           const double dr = (own - kernel_normals[g].cast<double>()).squaredNorm();
           weight[k] = float(face_area * std::exp(spatial * ds) * rangeKernel(range * dr));
         }
       }
+      std::vector<Vec3>().swap(centroid_scratch);
       if (guided) std::vector<Normal3f>().swap(guidance);
     }
+    next.resize(m);
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
     for (int f = 0; f < m; ++f) {
       Vec3 sum = Vec3::Zero();
@@ -371,8 +374,40 @@ inline void filterNormalsInPlace(const FaceRings &face_rings, const std::vector<
     out.swap(next);
   }
   std::vector<Normal3f>().swap(next);
+  std::vector<float>().swap(weight);
   normals.resize(m);
   for (int f = 0; f < m; ++f) normals[f] = out[f].cast<double>();
+}
+
+} // namespace detail
+
+// Filters face normals in place: `normals` holds the unit normals of the faces of (`points`,
+// `faces`) on entry and the filtered ones on return (the positions do not change meanwhile).
+// The filter's state is kept in single precision (normals, guidance, consistency, face areas and
+// the weights per face-ring entry; sums and weights are computed in double), and the faces'
+// centroids only while a guidance period's weights are made: about 90 bytes per face at its peak,
+// most of them the weights (4 bytes per face-ring entry), against 300 with everything in double
+// and kept. A normal's float rounding (6e-8) is far below what the filter resolves. The result is
+// the same for any thread count (every face is written by one thread from the previous
+// iteration's values). `normals`' own buffer is released while the filter runs.
+inline void filterNormalsInPlace(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                 const FaceRings &face_rings, const NormalFilterParams &params,
+                                 double mean_edge, std::vector<Vec3> &normals) {
+  const int m = int(faces.size());
+  std::vector<float> area(m);
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
+  for (int f = 0; f < m; ++f) {
+    double len;
+    detail::unitFaceNormal(points[faces[f][0]], points[faces[f][1]], points[faces[f][2]], len);
+    area[f] = float(0.5 * len);
+  }
+  detail::filterNormalsCore(
+      face_rings, area,
+      [&](std::vector<Vec3> &scratch) -> const std::vector<Vec3> & {
+        computeFaceCentroids(points, faces, scratch);
+        return scratch;
+      },
+      params, mean_edge, normals);
 }
 
 // Filters `geometry.normal` into `out` (unit normals, one per face).
@@ -381,7 +416,11 @@ inline void filterNormals(const std::vector<Face> &faces, const FaceRings &face_
                           double mean_edge, std::vector<Vec3> &out) {
   (void)faces;
   out = geometry.normal;
-  filterNormalsInPlace(face_rings, geometry.centroid, geometry.area, params, mean_edge, out);
+  const std::vector<float> area(geometry.area.begin(), geometry.area.end());
+  detail::filterNormalsCore(
+      face_rings, area,
+      [&](std::vector<Vec3> &) -> const std::vector<Vec3> & { return geometry.centroid; }, params,
+      mean_edge, out);
 }
 
 } // namespace vcg_ext
