@@ -220,6 +220,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
     std::vector<detail::SymmetricMatrix3>().swap(tangent_projector);
     std::vector<Vec3>().swap(next);
     std::vector<Vec3>().swap(centroid);
+    std::vector<Vec3>().swap(vertex_normals);
     // The filter starts from the face normals and works in place.
     computeFaceNormals(current, mesh.faces, filtered);
     // The first-pass check sees the normals after the first guidance period; the filter then

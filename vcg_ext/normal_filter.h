@@ -294,18 +294,16 @@ inline void patchConsistency(int f, const FaceRings &face_rings, const std::vect
 namespace detail {
 
 // The normal filter on `normals` in place (see filterNormalsInPlace): `area` per face, and
-// `centroids(scratch)` returning the faces' centroids, asked for once per weight computation
-// (scratch: where to put them if they are computed; it is freed after each use).
-template <class Centroids>
+// `centroid_of(f)` the centroid of face f.
+template <class CentroidOf>
 void filterNormalsCore(const FaceRings &face_rings, const std::vector<float> &area,
-                       Centroids centroids, const NormalFilterParams &params, double mean_edge,
+                       CentroidOf centroid_of, const NormalFilterParams &params, double mean_edge,
                        std::vector<Vec3> &normals) {
   const int m = int(normals.size());
   if (params.iterations <= 0 || m == 0) return;
   const bool guided = params.kind == NormalFilterKind::Guided;
   std::vector<Normal3f> out(m), next, guidance;
   std::vector<float> consistency, weight;
-  std::vector<Vec3> centroid_scratch;
   for (int f = 0; f < m; ++f) out[f] = normals[f].cast<float>();
   std::vector<Vec3>().swap(normals);
   const double spatial = -0.5 / std::pow(params.sigma_s * mean_edge, 2);
@@ -315,7 +313,7 @@ void filterNormalsCore(const FaceRings &face_rings, const std::vector<float> &ar
     if (guidance_changed) {
       // The previous period's weights are not needed any more. Only what a step needs is held:
       // the patches' mean normals (in `next`) and consistencies until the guidance is chosen,
-      // the guidance and the centroids until the weights are made.
+      // the guidance until the weights are made.
       std::vector<float>().swap(weight);
       consistency.resize(m);
       next.resize(m);
@@ -344,14 +342,13 @@ void filterNormalsCore(const FaceRings &face_rings, const std::vector<float> &ar
     // exp per entry and period, against another array per face-ring entry held all along.
     if (!guided || guidance_changed) {
       const std::vector<Normal3f> &kernel_normals = guided ? guidance : out;
-      const std::vector<Vec3> &centroid = centroids(centroid_scratch);
       weight.resize(face_rings.faces.size());
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
       for (int f = 0; f < m; ++f) {
-        const Vec3 own = kernel_normals[f].cast<double>();
+        const Vec3 own = kernel_normals[f].cast<double>(), own_centroid = centroid_of(f);
         for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k) {
           const int g = face_rings.faces[k];
-          const double ds = (centroid[f] - centroid[g]).squaredNorm();
+          const double ds = (own_centroid - centroid_of(g)).squaredNorm();
           const double face_area = params.area_power == 0.0   ? 1.0
                                    : params.area_power == 1.0 ? double(area[g])
                                                               : std::pow(double(area[g]), params.area_power);
@@ -359,7 +356,6 @@ void filterNormalsCore(const FaceRings &face_rings, const std::vector<float> &ar
           weight[k] = float(face_area * std::exp(spatial * ds) * rangeKernel(range * dr));
         }
       }
-      std::vector<Vec3>().swap(centroid_scratch);
       if (guided) std::vector<Normal3f>().swap(guidance);
     }
     next.resize(m);
@@ -385,9 +381,9 @@ void filterNormalsCore(const FaceRings &face_rings, const std::vector<float> &ar
 // `faces`) on entry and the filtered ones on return (the positions do not change meanwhile).
 // The filter's state is kept in single precision (normals, guidance, consistency, face areas and
 // the weights per face-ring entry; sums and weights are computed in double), and the faces'
-// centroids only while a guidance period's weights are made: about 90 bytes per face at its peak,
-// most of them the weights (4 bytes per face-ring entry), against 300 with everything in double
-// and kept. A normal's float rounding (6e-8) is far below what the filter resolves. The result is
+// centroids are computed where the weights need them: about 80 bytes per face at its peak, most
+// of them the weights (4 bytes per face-ring entry), against 300 with everything in double and
+// kept. A normal's float rounding (6e-8) is far below what the filter resolves. The result is
 // the same for any thread count (every face is written by one thread from the previous
 // iteration's values). `normals`' own buffer is released while the filter runs.
 inline void filterNormalsInPlace(const std::vector<Vec3> &points, const std::vector<Face> &faces,
@@ -403,9 +399,8 @@ inline void filterNormalsInPlace(const std::vector<Vec3> &points, const std::vec
   }
   detail::filterNormalsCore(
       face_rings, area,
-      [&](std::vector<Vec3> &scratch) -> const std::vector<Vec3> & {
-        computeFaceCentroids(points, faces, scratch);
-        return scratch;
+      [&](int f) {
+        return Vec3((points[faces[f][0]] + points[faces[f][1]] + points[faces[f][2]]) / 3.0);
       },
       params, mean_edge, normals);
 }
@@ -419,8 +414,7 @@ inline void filterNormals(const std::vector<Face> &faces, const FaceRings &face_
   const std::vector<float> area(geometry.area.begin(), geometry.area.end());
   detail::filterNormalsCore(
       face_rings, area,
-      [&](std::vector<Vec3> &) -> const std::vector<Vec3> & { return geometry.centroid; }, params,
-      mean_edge, out);
+      [&](int f) { return geometry.centroid[f]; }, params, mean_edge, out);
 }
 
 } // namespace vcg_ext
