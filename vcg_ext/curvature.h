@@ -59,6 +59,27 @@ inline void computeVertexNormals(const std::vector<Vec3> &points, const std::vec
   }
 }
 
+// computeVertexNormals at the boundary vertices only, the same values to the bit (each face's
+// cross product computed where it is summed); the other entries are left as they are. What the
+// boundary moves of the drivers need, without a pass over every face per vertex update.
+inline void computeBoundaryVertexNormals(const std::vector<Vec3> &points,
+                                         const std::vector<Face> &faces, const Rings &rings,
+                                         std::vector<Vec3> &normals) {
+  const int n = rings.vertex_count;
+  normals.resize(n);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+  for (int v = 0; v < n; ++v) {
+    if (!rings.boundary[v]) continue;
+    Vec3 sum = Vec3::Zero();
+    for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) {
+      const Face &t = faces[*f];
+      sum += (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
+    }
+    const double length = sum.norm();
+    normals[v] = (length > 0 && std::isfinite(length)) ? Vec3(sum / length) : Vec3::Zero();
+  }
+}
+
 namespace detail {
 
 // A triangle counts as degenerate when its area is negligible against its longest edge.

@@ -277,7 +277,8 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
                                    face_alpha, patches);
       }
       // Boundary moves keep off the inward direction, which needs the surface normal there.
-      if (report.boundary_vertices) computeVertexNormals(current, mesh.faces, rings, vertex_normals);
+      if (report.boundary_vertices)
+        computeBoundaryVertexNormals(current, mesh.faces, rings, vertex_normals);
       // Folds: faces whose normal is far from their filtered normal; the relaxation works around
       // them only, so a clean or unfolded mesh keeps its triangulation.
       if (params.tangential > 0 && params.relax_rings >= 0) {

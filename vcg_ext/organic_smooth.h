@@ -142,7 +142,8 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
                                                             params.saliency_scale * setup.stats.bbox_diagonal);
       const long fallbacks = fitFacePatches(current, mesh.faces, setup.face_rings, face_normals,
                                             edge, params.patches, face_alpha, patches);
-      if (report.boundary_vertices) computeVertexNormals(current, mesh.faces, rings, vertex_normals);
+      if (report.boundary_vertices)
+        computeBoundaryVertexNormals(current, mesh.faces, rings, vertex_normals);
 #pragma omp parallel for schedule(static) reduction(+ : rejected) if (n >= min_parallel_vertices)
       for (int v = 0; v < n; ++v) {
         next[v] = current[v];
