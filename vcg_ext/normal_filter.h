@@ -342,9 +342,11 @@ void filterNormalsCore(const FaceRings &face_rings, const std::vector<float> &ar
       consistency.resize(m);
       next.resize(m);
       std::vector<Normal3f> &patch_normal = next;
+      AllocationGuard guard; // (a patch of more than 32 faces takes its arrays from the heap)
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
       for (int f = 0; f < m; ++f)
-        patchConsistency(f, face_rings, out, area, consistency[f], patch_normal[f]);
+        guard.run([&] { patchConsistency(f, face_rings, out, area, consistency[f], patch_normal[f]); });
+      guard.rethrow();
       // Each face takes the mean normal of the most consistent patch that contains it; the
       // lowest face index breaks ties so the choice does not depend on the order of the scan.
       guidance.resize(m);
