@@ -20,8 +20,8 @@
 namespace saliency_bezier {
 
 // What a run needs beyond the mesh MeshLab already holds, in bytes per vertex and per face,
-// measured (bench/PERFORMANCE.md "Scale": peak resident set minus the set before the filter, on
-// the 2.2M-vertex bunny through meshlabserver and smooth_mesh) with a margin of about 15 %. The
+// measured (peak resident set minus the set before the filter, printed by tools/smooth_mesh, on
+// the 2.2M-vertex bunny of bench/scale.py; 1.22 GB of the 1.42 GB estimated there) with a margin of about 15 %. The
 // smoothing filter's peak is its normal filter or patch fits (face rings, weights per face-ring
 // entry, face normals in single precision), the analysis filter's the curvature and saliency.
 struct MemoryCost {
