@@ -31,6 +31,7 @@ import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import meshio  # noqa: E402
+import sd_filter  # noqa: E402
 
 REPO = pathlib.Path(__file__).resolve().parents[1]
 SHARED = pathlib.Path(os.environ.get("SBS_SHARED_DIR", REPO.parent / "shared"))
@@ -76,6 +77,13 @@ OURS = {  # label -> smooth_mesh overrides (placement: 0 ring barycentre, 1 patc
 }
 OURS_ITERATIONS = [1, 2, 3, 4, 6, 8, 12, 16, 20]
 TAUBIN_ITERATIONS = [1, 2, 5, 10, 20, 40, 80, 160]
+# The SD filter (Debian's meshsdfilter-tools, bench/sd_filter.py): at its defaults and at the best
+# of sd_filter.SWEEP (quick mode: the defaults only, to keep CI short). Timed like MeshLab's filters
+# (whole process) on the timing meshes up to SD_TIMING_MAX_VERTICES: beyond, one run takes many
+# minutes and gigabytes.
+SD = "SD filter"
+SD_TIMING_MAX_VERTICES = 110_000
+SD_TIMING_LABEL = "SD filter (defaults; its own I/O)"
 LAPLACIAN_ITERATIONS = [1, 2, 3, 5, 10, 20]
 
 
@@ -235,22 +243,34 @@ class Runner:
                          f"{text[-2000:]}")
 
     # --- memoised quality runs: (case, method, setting) -> scores
+    @staticmethod
+    def memo_key(case, method, setting):
+        if method == SD:  # {} and the sweep's centre are the same run
+            setting = sd_filter.full(setting)
+        return (case["name"], method, json.dumps(setting, sort_keys=True))
+
     def quality(self, case, method, setting):
-        key = (case["name"], method, json.dumps(setting, sort_keys=True))
+        key = self.memo_key(case, method, setting)
         if key in self.memo:
             return self.memo[key]
         tag = re.sub(r"[^A-Za-z0-9]+", "_", f"{method}_{json.dumps(setting, sort_keys=True)}")
         out = case["dir"] / f"{tag}.ply"
+        start = time.perf_counter()
         try:
             if method == "ours":
                 self.smooth_inprocess(case["noisy"], out, setting, threads=self.quality_threads)
             elif method == "ours meshlabserver":
                 self.meshlab(case["noisy"], out, self.ours_mlx(setting))
+            elif method == SD:
+                sd_filter.run(case["noisy"], out, setting, options_dir=self.mlx_dir,
+                              threads=self.quality_threads)
             else:
                 self.meshlab(case["noisy"], out, self.peer_mlx_path(method, setting))
+            wall = time.perf_counter() - start  # whole process(es), untimed conditions
             scores = self.compare(out, case["clean"])
             scores["path"] = str(out)
-        except BenchError as e:
+            scores["wall"] = wall
+        except (BenchError, sd_filter.SDError, subprocess.TimeoutExpired) as e:
             log(f"FAILED {case['name']} {method} {setting}: {str(e)[:400]}")
             scores = {"error": str(e)[:400]}
         with self.lock:
@@ -262,7 +282,7 @@ class Runner:
         share the cores; each in-process run then gets one OpenMP thread)."""
         seen, todo = set(), []
         for case, method, setting in tasks:
-            key = (case["name"], method, json.dumps(setting, sort_keys=True))
+            key = self.memo_key(case, method, setting)
             if key not in seen and key not in self.memo:
                 seen.add(key)
                 todo.append((case, method, setting))
@@ -396,6 +416,10 @@ def make_timing_meshes(runner, work, quick):
 # --------------------------------------------------------------------------------------------
 # Runs
 
+def sd_sweep(quick):
+    return [{}] if quick else sd_filter.SWEEP
+
+
 def quality_tasks(cases, quick):
     tasks = []
     for i, case in enumerate(cases):
@@ -403,6 +427,7 @@ def quality_tasks(cases, quick):
         for peer in PEERS:
             tasks.append((case, peer, PEER_DEFAULT[peer]))
             tasks += [(case, peer, s) for s in PEER_SWEEP[peer]]
+        tasks += [(case, SD, s) for s in [{}] + sd_sweep(quick)]
         if case["group"] == "cgal":
             continue
         tasks.append((case, "ours meshlabserver", ["placement=0"]))
@@ -415,6 +440,19 @@ def quality_tasks(cases, quick):
     return tasks
 
 
+def best_of(runner, case, method, sweep, text):
+    """(scores of the sweep setting with the lowest theta, with its `setting` text; every
+    setting's scores by text): a peer's oracle best on one case."""
+    best, best_setting, scores = None, None, {}
+    for s in sweep:
+        sc = runner.quality(case, method, s)
+        scores[text(s)] = sc
+        if finite(sc.get("theta_deg")) and (best is None or sc["theta_deg"] < best["theta_deg"]):
+            best, best_setting = sc, s
+    return dict(best or {"error": "all failed"},
+                setting=text(best_setting) if best_setting is not None else "-"), scores
+
+
 def run_quality(runner, cases, quick):
     results = {}
     for case in cases:
@@ -425,18 +463,11 @@ def run_quality(runner, cases, quick):
             r["ours via meshlabserver"] = runner.quality(case, "ours meshlabserver", ["placement=0"])
         for peer in PEERS:
             r[peer + " default"] = runner.quality(case, peer, PEER_DEFAULT[peer])
-            best, best_setting = None, None
-            sweep = {}
-            for s in PEER_SWEEP[peer]:
-                sc = runner.quality(case, peer, s)
-                sweep[peer_setting_text(peer, s)] = sc
-                if finite(sc.get("theta_deg")) and (best is None or
-                                                    sc["theta_deg"] < best["theta_deg"]):
-                    best, best_setting = sc, s
-            r[peer + " best"] = dict(best or {"error": "all failed"},
-                                     setting=peer_setting_text(peer, best_setting)
-                                     if best_setting else "-")
-            r[peer + " sweep"] = sweep
+            r[peer + " best"], r[peer + " sweep"] = best_of(
+                runner, case, peer, PEER_SWEEP[peer], lambda s, p=peer: peer_setting_text(p, s))
+        r[SD + " default"] = runner.quality(case, SD, {})
+        r[SD + " best"], r[SD + " sweep"] = best_of(runner, case, SD, sd_sweep(quick),
+                                                    sd_filter.setting_text)
         results[case["name"]] = r
     return results
 
@@ -502,11 +533,13 @@ def run_timing(runner, meshes, runs):
     table = {}
     for mesh in meshes:
         log(f"timing: {mesh['label']} {mesh['name']} ({mesh['vertices']} vertices), {runs} runs")
-        samples = {m: [] for m, _ in methods}
+        mesh_methods = methods + ([(SD_TIMING_LABEL, SD)] if sd_filter.available() and
+                                  mesh["vertices"] <= SD_TIMING_MAX_VERTICES else [])
+        samples = {m: [] for m, _ in mesh_methods}
         out = runner.work / "timing" / "out.ply"
         times = peer_applications(mesh["vertices"])
         for rnd in range(runs):
-            for label, peer in methods:
+            for label, peer in mesh_methods:
                 if rnd > 0 and samples[label][0]["wall"] > SLOW_RUN_SECONDS:
                     continue
                 if label == "ours in-process":
@@ -522,6 +555,9 @@ def run_timing(runner, meshes, runs):
                     r["stages"] = parse_stages(r["log"])
                 elif label == "load+save only":
                     r = runner.meshlab(mesh["path"], out, None, timed=True)
+                elif peer == SD:
+                    r = sd_filter.run(mesh["path"], out, {}, options_dir=runner.mlx_dir,
+                                      timed=True)
                 else:
                     r = runner.meshlab(mesh["path"], out,
                                        runner.peer_mlx_path(peer, PEER_TIMING[peer], times),
@@ -530,12 +566,14 @@ def run_timing(runner, meshes, runs):
                 log(f"  round {rnd + 1} {label}: {r['wall']:.2f} s, {r['rss'] or 0:.0f} MB")
         med = {}
         base = statistics.median(s["wall"] for s in samples["load+save only"])
-        for label, _ in methods:
+        for label, peer in mesh_methods:
             s = samples[label]
             m = {"wall": statistics.median(x["wall"] for x in s),
                  "rss": statistics.median(x["rss"] for x in s if x["rss"] is not None),
                  "walls": [x["wall"] for x in s], "runs": len(s)}
-            if "in-process" in label:
+            if peer == SD:  # the denoising time it logs (its load and save are its own)
+                m["filter"] = statistics.median(x["filter"] for x in s)
+            elif "in-process" in label:
                 m["filter"] = statistics.median(x["filter"] for x in s)
             elif label != "load+save only":
                 applications = 1 if label.startswith("ours") else times
@@ -596,7 +634,7 @@ def machine_info():
 
 SUMMARY_COLUMNS = (["noisy", "ours automatic (default)", "ours ring barycentre",
                     "ours feature-preserving", "ours organic"] +
-                   [f"{p} {w}" for p in PEERS for w in ("default", "best")])
+                   [f"{p} {w}" for p in PEERS + [SD] for w in ("default", "best")])
 
 
 def summary_table(cases, quality, key, digits, title_note=""):
@@ -605,8 +643,9 @@ def summary_table(cases, quality, key, digits, title_note=""):
     for case in cases:
         r = quality[case["name"]]
         cells = []
-        best_peer = min((r[f"{p} {w}"].get(key) for p in PEERS for w in ("default", "best")
-                         if finite(r[f"{p} {w}"].get(key))), default=None)
+        best_peer = min((r[f"{p} {w}"].get(key) for p in PEERS + [SD]
+                         for w in ("default", "best") if finite(r[f"{p} {w}"].get(key))),
+                        default=None)
         for col in SUMMARY_COLUMNS:
             v = r[col].get(key)
             text = fmt(v, digits)
@@ -630,6 +669,15 @@ def best_meshlab(r, key="theta_deg"):
     return best or ("–", {})
 
 
+def best_sd(r, key="theta_deg"):
+    """(label, scores) of the SD filter's default or best sweep setting, whichever has the lower
+    `key` on a case."""
+    options = [(f"{SD} defaults", r.get(f"{SD} default", {})),
+               (f"{SD} {r.get(f'{SD} best', {}).get('setting', '-')}", r.get(f"{SD} best", {}))]
+    options = [o for o in options if finite(o[1].get(key))]
+    return min(options, key=lambda o: o[1][key]) if options else ("–", {})
+
+
 # shared/data/README.md: guided normal filtering (Zhang et al. 2015, authors' code, default
 # parameters) and bilateral normal filtering (Zheng et al. 2011): theta / Ev x 1e-3.
 GNF = {"Fandisk0.3": (2.93, 0.93), "Block0.4": (4.09, 1.30), "SharpSphere0.3": (8.17, 1.46),
@@ -642,7 +690,7 @@ def normal_filtering_section(cases, quality):
     """The automatic mode (the default) against the published normal-filtering figures (issue 8)."""
     L = ["| case | noisy θ / Ev | ours automatic (default) θ / Ev | θ sharp noisy → ours | "
          "guided normal filtering | bilateral normal filtering | best MeshLab θ / Ev | "
-         "beats guided on θ and Ev |", "|---|---|---|---|---|---|---|---|"]
+         "SD filter best θ / Ev | beats guided on θ and Ev |", "|---|---|---|---|---|---|---|---|---|"]
     wins = rows = 0
     for case in cases:
         if case["name"] not in GNF:
@@ -651,6 +699,7 @@ def normal_filtering_section(cases, quality):
         ours, noisy = r["ours automatic (default)"], r["noisy"]
         g, b = GNF[case["name"]], BILATERAL[case["name"]]
         _, peer = best_meshlab(r)
+        _, sd = best_sd(r)
         win = finite(ours.get("theta_deg")) and ours["theta_deg"] < g[0] and \
             ours["ev_1e3"] < g[1]
         wins += win
@@ -660,6 +709,7 @@ def normal_filtering_section(cases, quality):
                  f"{fmt(noisy.get('theta_sharp_deg'))} → {fmt(ours.get('theta_sharp_deg'))} | "
                  f"{g[0]:.2f} / {g[1]:.2f} | {b[0]:.2f} / {b[1]:.2f} | "
                  f"{fmt(peer.get('theta_deg'))} / {fmt(peer.get('ev_1e3'))} | "
+                 f"{fmt(sd.get('theta_deg'))} / {fmt(sd.get('ev_1e3'))} | "
                  f"{'yes' if win else 'no'} |")
     L.append("")
     L.append(f"The automatic mode (which runs the feature-preserving mode on these four) beats "
@@ -728,30 +778,36 @@ def summary_section(cases, quality, timing):
              "ours organic")
     L = ["| case | noisy θ / Ev | ours automatic (default) θ / Ev | ours ring barycentre θ / Ev | "
          "ours feature-preserving θ / Ev | ours organic θ / Ev | best MeshLab (by θ) | its θ / Ev "
-         "| best MeshLab Ev |",
-         "|---|---|---|---|---|---|---|---|---|"]
+         "| best MeshLab Ev | SD filter best (by θ) | its θ / Ev |",
+         "|---|---|---|---|---|---|---|---|---|---|---|"]
     wins = {m: [0, 0] for m in modes}  # theta, Ev
+    sd_wins = {m: [0, 0] for m in modes}
     for case in cases:
         r = quality[case["name"]]
         label, peer = best_meshlab(r)
         _, peer_ev = best_meshlab(r, "ev_1e3")
+        sd_label, sd = best_sd(r)
+        _, sd_ev = best_sd(r, "ev_1e3")
         cells = []
         for mode in modes:
             ours = r[mode]
-            wins[mode][0] += finite(ours.get("theta_deg")) and ours["theta_deg"] <= peer.get(
-                "theta_deg", math.inf)
-            wins[mode][1] += finite(ours.get("ev_1e3")) and ours["ev_1e3"] <= peer_ev.get(
-                "ev_1e3", math.inf)
+            for counts, by_theta, by_ev in ((wins, peer, peer_ev), (sd_wins, sd, sd_ev)):
+                counts[mode][0] += finite(ours.get("theta_deg")) and \
+                    ours["theta_deg"] <= by_theta.get("theta_deg", math.inf)
+                counts[mode][1] += finite(ours.get("ev_1e3")) and \
+                    ours["ev_1e3"] <= by_ev.get("ev_1e3", math.inf)
             cells.append(f"{fmt(ours.get('theta_deg'))} / {fmt(ours.get('ev_1e3'))}")
         L.append(f"| {case['name']} | {fmt(r['noisy'].get('theta_deg'))} / "
                  f"{fmt(r['noisy'].get('ev_1e3'))} | {' | '.join(cells)} | {label} | "
                  f"{fmt(peer.get('theta_deg'))} / {fmt(peer.get('ev_1e3'))} | "
-                 f"{fmt(peer_ev.get('ev_1e3'))} |")
+                 f"{fmt(peer_ev.get('ev_1e3'))} | {sd_label.replace(SD + ' ', '')} | "
+                 f"{fmt(sd.get('theta_deg'))} / {fmt(sd.get('ev_1e3'))} |")
     L.append("")
     for mode in modes:
         L.append(f"- {mode}: θ at least as low as every MeshLab filter (at its default and at its "
                  f"per-case best sweep setting) on {wins[mode][0]} of {len(cases)} cases, Ev on "
-                 f"{wins[mode][1]} of {len(cases)}.")
+                 f"{wins[mode][1]} of {len(cases)}; as low as the SD filter's (default or best "
+                 f"of its sweep) θ on {sd_wins[mode][0]}, Ev on {sd_wins[mode][1]}.")
     if timing:
         L.append("")
         parts = []
@@ -780,6 +836,8 @@ def detail_table(case, r):
     for p in PEERS:
         rows.append((p, "default " + peer_setting_text(p, PEER_DEFAULT[p]), r[p + " default"]))
         rows.append((p, "best: " + r[p + " best"].get("setting", "-"), r[p + " best"]))
+    rows.append((SD, "defaults", r[SD + " default"]))
+    rows.append((SD, "best: " + r[SD + " best"].get("setting", "-"), r[SD + " best"]))
     for name, setting, s in rows:
         if "error" in s:
             lines.append(f"| {name} | {setting} | failed: {s['error'][:80].splitlines()[0]} "
@@ -890,11 +948,19 @@ def write_results(path, img_rel, args, machine, cases, quality, agreement, timin
              "steps at 60°; sweep 1/3/6 steps × 45/60/75°). **best** = the sweep setting with "
              "the "
              "lowest θ on that case (an oracle choice per case: the strongest fair baseline).")
+    sweep = "the defaults only (quick mode)" if args.quick else "; ".join(
+        sd_filter.setting_text(s) for s in sd_filter.SWEEP)
+    L.append("- The SD filter (Zhang, Deng et al., *Static/Dynamic Filtering for Mesh Geometry*, "
+             "TVCG 2019; Debian's `meshsdfilter-tools`, `MeshDenoiser OPTIONS IN OUT`, OpenMP on "
+             "every core, one thread in the parallel quality runs) at the defaults of its "
+             f"`DenoisingOptions.txt` ({sd_filter.defaults_text()}) and at the best (lowest θ) "
+             f"of the sweep {sweep} (bench/sd_filter.py).")
     L.append(f"- Noise made here: Gaussian, std k × mean edge length, along vertex normals (n) or "
              f"in random 3-D directions (r), seed {NOISE_SEED} (`tools/add_noise`).\n")
 
     L.append("## θ (degrees, lower is better) — literature and paper cases\n")
-    L.append("Bold: our mode is at least as good as every MeshLab setting tried.\n")
+    L.append("Bold: our mode is at least as good as every MeshLab and SD filter setting "
+             "tried.\n")
     L.append(summary_table(lit, quality, "theta_deg", 2) + "\n")
     L.append("## Ev (×1e-3, lower is better) — literature and paper cases\n")
     L.append(summary_table(lit, quality, "ev_1e3", 3) + "\n")
@@ -927,7 +993,11 @@ def write_results(path, img_rel, args, machine, cases, quality, agreement, timin
              "– = within the start-up noise). MeshLab's filters are single-threaded; ours uses "
              "OpenMP on all cores (the 1-thread row is the "
              "like-for-like figure). The ratio columns divide a method's filter time by ours "
-             "(> 1: slower than ours). Peak RSS from `/usr/bin/time -v` (whole process).\n")
+             "(> 1: slower than ours). Peak RSS from `/usr/bin/time -v` (whole process). "
+             "The SD filter (`MeshDenoiser`, OpenMP on all cores): *wall* its whole process "
+             "(OpenMesh load, denoising, ASCII save), *filter* the denoising time it logs; run "
+             f"on meshes up to {SD_TIMING_MAX_VERTICES:,} vertices (beyond, one run takes "
+             "many minutes).\n")
     t1, t2 = timing_tables(timing)
     L.append(t1 + "\n")
     L.append("Our filter's stages (its own log, medians):\n")

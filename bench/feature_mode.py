@@ -7,7 +7,8 @@ writes its tables into bench/FEATURE_MODE.md (between the <!-- tables --> marker
 - the public benchmark cases against the guided (GNF) and bilateral normal filtering figures of
   shared/data/README.md, and against the default mode;
 - meshes with noise in random 3-D directions (Debian's libcgal-demo meshes, add_noise 0.25 random)
-  against MeshLab's Taubin at its best step count (meshlabserver under xvfb-run);
+  against MeshLab's Taubin at its best step count (meshlabserver under xvfb-run) and the SD filter
+  (Debian's meshsdfilter-tools) at its defaults and at the best of bench/sd_filter.py's sweep;
 - clean meshes (how much the mode changes a noise-free mesh);
 - CPU time against the default mode (one thread, best of three).
 
@@ -21,6 +22,10 @@ import subprocess
 import sys
 import tarfile
 import tempfile
+from concurrent.futures import ThreadPoolExecutor
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import sd_filter  # noqa: E402
 
 REPO = pathlib.Path(__file__).resolve().parents[1]
 SHARED = REPO.parent / "shared" / "data"
@@ -80,6 +85,21 @@ def taubin(noisy, out, steps, tmp):
     script = tmp / f"taubin{steps}.mlx"
     script.write_text(TAUBIN_MLX.format(steps=steps))
     run(["xvfb-run", "-a", "meshlabserver", "-i", noisy, "-o", out, "-s", script])
+
+
+def sd_scores(build, noisy, clean, tmp, quick):
+    """(defaults' scores, best sweep setting's scores with its 'setting'): the SD filter, one
+    thread per run, two runs at a time (quick: the defaults only)."""
+    settings = [{}] + ([] if quick else sd_filter.SWEEP)
+
+    def one(i):
+        out = tmp / f"sd{i}.ply"
+        sd_filter.run(noisy, out, settings[i], options_dir=tmp / "sd", threads=1)
+        return score(build, out, clean)
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        scores = list(pool.map(one, range(len(settings))))
+    best = min(range(len(settings)), key=lambda i: scores[i]["theta_deg"])
+    return scores[0], dict(scores[best], setting=sd_filter.setting_text(settings[best]))
 
 
 def chosen(auto_result, feature_result):
@@ -156,8 +176,13 @@ def main():
                   "random 1` (same vertex order). The public benchmark's clean CAD models get the "
                   "same noise. MeshLab Taubin (λ 0.5, μ −0.53) swept over "
                   f"{steps} steps; the best θ is shown with its step count (an oracle: it needs the "
-                  "clean mesh). *Beats Taubin*: θ / Ev of the organic mode below Taubin's at that "
-                  "step count.", ""]
+                  "clean mesh). *Beats Taubin*: θ / Ev of the automatic mode below Taubin's at that "
+                  "step count. The SD filter (Debian's meshsdfilter-tools) at its defaults and at the "
+                  "best θ of " + ("its defaults only (--quick)" if args.quick else
+                                  "the sweep " + "; ".join(sd_filter.setting_text(x)
+                                                           for x in sd_filter.SWEEP)) +
+                  " (bench/sd_filter.py; an oracle too). *Beats SD*: θ / Ev of the automatic mode "
+                  "below the SD filter's (defaults and best).", ""]
         debian_clean = []
 
         def random_rows(title, sources):
@@ -165,8 +190,9 @@ def main():
             lines += [f"**{title}**", "",
                       "| mesh | vertices | noisy | flipped faces noisy | default mode | feature mode "
                       "(flipped) | organic mode (flipped) | automatic mode (chose) | Taubin best θ "
-                      "(steps) / Ev | automatic beats Taubin θ / Ev |",
-                      "|---|---|---|---|---|---|---|---|---|---|"]
+                      "(steps) / Ev | automatic beats Taubin θ / Ev | SD filter defaults θ / Ev | "
+                      "SD filter best θ / Ev (setting) | automatic beats SD θ / Ev |",
+                      "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
             for name, src in sources:
                 clean, noisy = tmp / f"{name}_clean.ply", tmp / f"{name}_noisy.ply"
                 run([build / "tools" / "add_noise", src, clean, 0, "random", 1])
@@ -190,13 +216,18 @@ def main():
                     if best is None or sc["theta_deg"] < best[1]["theta_deg"]:
                         best = (k, sc)
                 yes = lambda key: "yes" if s_auto[key] < best[1][key] else "no"
+                sd_default, sd_best = sd_scores(build, noisy, clean, tmp, args.quick)
+                yes_sd = lambda key: "yes" if s_auto[key] < min(sd_default[key],
+                                                                sd_best[key]) else "no"
                 lines.append(
                     f"| {name} | {s_noisy['vertices']} | {cell(s_noisy)} | "
                     f"{s_noisy['flipped_faces']} | {cell(s_default)} | {cell(s_feature)} "
                     f"({s_feature['flipped_faces']}) | {cell(s_organic)} "
                     f"({s_organic['flipped_faces']}) | **{cell(s_auto)}** ({chose}) | "
                     f"{fmt(best[1], 'theta_deg')} ({best[0]}) / "
-                    f"{fmt(best[1], 'ev_1e3')} | {yes('theta_deg')} / {yes('ev_1e3')} |")
+                    f"{fmt(best[1], 'ev_1e3')} | {yes('theta_deg')} / {yes('ev_1e3')} | "
+                    f"{cell(sd_default)} | {cell(sd_best)} ({sd_best['setting']}) | "
+                    f"{yes_sd('theta_deg')} / {yes_sd('ev_1e3')} |")
                 print(lines[-1], file=sys.stderr)
             lines.append("")
 

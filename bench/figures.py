@@ -59,6 +59,12 @@ def before_after(case, r, rotation, path):
             panels.append((label, r[key]["path"], r[key]))
     if peer is not None:
         panels.append((f"MeshLab {peer_label}", peer["path"], peer))
+    sd = [(r[k]["theta_deg"], label, r[k]) for k, label in
+          (("SD filter default", "defaults"), ("SD filter best", r.get("SD filter best", {}).get(
+              "setting"))) if r.get(k, {}).get("theta_deg") is not None and "path" in r[k]]
+    if sd:
+        _, label, scores = min(sd, key=lambda o: o[0])
+        panels.append((f"SD filter ({label})", scores["path"], scores))
     panels.append(("clean", case["clean"], None))
     fig, axes = plt.subplots(1, len(panels), figsize=(len(panels) * PANEL / 100, PANEL / 100 + 0.5))
     for ax, (title, mesh_path, scores) in zip(axes, panels):
@@ -179,7 +185,8 @@ def make_all(runner, cases, quality, curves, timing, img_dir, quick):
         file = "before_after_" + name.replace(" ", "_").replace(".", "") + ".png"
         before_after(by_name[name], quality[name], render.view_rotation(az, el, up),
                      img_dir / file)
-        pictures.append((f"{name}: noisy, ours (default, feature-preserving, organic), best MeshLab filter, clean", file))
+        pictures.append((f"{name}: noisy, ours (default, ring barycentre, feature-preserving, "
+                          "organic), best MeshLab filter, best SD filter setting, clean", file))
         done += 1
     if saliency_map(runner, cases, img_dir / "saliency.png", quick):
         pictures.append(("Saliency heat map", "saliency.png"))
@@ -190,3 +197,22 @@ def make_all(runner, cases, quality, curves, timing, img_dir, quick):
         timing_plot(timing, img_dir / "time_vs_vertices.png")
         pictures.append(("Time vs vertex count", "time_vs_vertices.png"))
     return pictures
+
+
+def panel_row(panels, rotation, path, title, frame_points=None, size=PANEL):
+    """One row of flat-shaded renderings in the same view and frame: panels = [(title, mesh path
+    or (points, faces))]; the frame fits `frame_points` (default: the first panel's vertices)."""
+    meshes = []
+    for label, mesh in panels:
+        points, faces = (mesh if isinstance(mesh, tuple) else meshio.read_mesh(mesh)[:2])
+        meshes.append((label, points, faces))
+    frame = render.camera_frame((meshes[0][1] if frame_points is None else frame_points)
+                                @ rotation.T)
+    fig, axes = plt.subplots(1, len(meshes), figsize=(len(meshes) * size / 100, size / 100 + 0.5))
+    for ax, (label, points, faces) in zip(np.atleast_1d(axes), meshes):
+        ax.imshow(render.render(points, faces, rotation, size=size, frame=frame))
+        ax.set_title(label, fontsize=8)
+        ax.axis("off")
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout(pad=0.3, rect=(0, 0, 1, 0.88))
+    save(fig, path)

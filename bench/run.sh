@@ -4,6 +4,8 @@
 #   bash bench/run.sh --quick    CI: small public cases, one run, ~10k timing only; exits non-zero
 #                                when a table is missing -> bench/out/quick/RESULTS.md
 #   options: --out DIR (RESULTS.md + img/ there), --runs N (timing runs, default 3 / quick 1)
+#   bash bench/run.sh --scanner [--jobs N] [--quick]   scanner-noise and light-noise cases
+#                                (bench/SCANNER_NOISE.md), then the real scans (bench/REAL_SCANS.md)
 # Installs what it needs (Debian packages, as root or with sudo), builds the tools and the plugin
 # into $SBS_BUILD_DIR (default build/), then runs bench/bench.py with Debian's python3.
 set -euo pipefail
@@ -19,8 +21,9 @@ as_root() {
 # Build dependencies, MeshLab 2020.09 headers and vcglib (quiet when already there).
 bash "$top/scripts/setup.sh"
 
-# The benchmark's own: plots, the libcgal-demo meshes, GNU time for peak memory, Xvfb.
-packages=(python3-numpy python3-matplotlib libcgal-demo time xvfb meshlab)
+# The benchmark's own: plots, the libcgal-demo meshes, GNU time for peak memory, Xvfb, MeshLab and
+# the SD filter (meshsdfilter-tools: MeshDenoiser), the peers.
+packages=(python3-numpy python3-matplotlib libcgal-demo time xvfb meshlab meshsdfilter-tools)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -40,4 +43,9 @@ cmake --build "$build" -j"$(nproc)" --target filter_saliency_bezier_smooth smoot
   mesh_compare write_mlx >"$build/bench.build.log" 2>&1 ||
   { grep -E "error|Error" -A3 "$build/bench.build.log" | head -60; exit 1; }
 
+if [ "${1:-}" = "--scanner" ]; then  # scanner noise, light noise and the real scans (issue 16)
+  shift
+  /usr/bin/python3 "$top/bench/scanner_bench.py" --build "$build" "$@"
+  exec /usr/bin/python3 "$top/bench/real_scans.py" --build "$build"
+fi
 exec /usr/bin/python3 "$top/bench/bench.py" --build "$build" "$@"

@@ -36,6 +36,7 @@ def test_quick_benchmark_produces_finite_tables(tmp_path):
         header = numbers(next(l for l in table.splitlines() if l.startswith("| case |")))
         assert header[1:7] == ["noisy", "ours automatic (default)", "ours ring barycentre",
                                "ours feature-preserving", "ours organic", "Laplacian default"]
+        assert header[-2:] == ["SD filter default", "SD filter best"]
         for case in QUICK_CASES:
             rows = [l for l in table.splitlines() if l.startswith(f"| {case} |")]
             assert len(rows) == 1, (heading, case)
