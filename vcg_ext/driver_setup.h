@@ -305,10 +305,11 @@ inline double roughnessOf(double spread_deg, double clean_spread_deg, double noi
 // an edge length. The spread alone took real scans for clean (14-26 deg, like coarse clean
 // meshes); its decay tells them apart (bench/NOISE_ESTIMATE.md).
 inline double measuredRoughness(const NoiseEstimate &noise, double spread_deg,
-                                double clean_spread_deg, double noisy_spread_deg) {
+                                double clean_spread_deg, double noisy_spread_deg,
+                                bool correlated = false) {
   if (!noise.noisy) return 0.0;
   return std::max(roughnessOf(spread_deg, clean_spread_deg, noisy_spread_deg),
-                  std::min(1.0, noise.level / 0.1));
+                  std::min(1.0, (correlated ? noise.correlated_level : noise.level) / 0.1));
 }
 
 // How much a driver smooths: the measured need (0 = clean .. 1 = noisy) times the user's

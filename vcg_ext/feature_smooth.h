@@ -20,6 +20,7 @@
 
 #include "driver_setup.h"
 #include "face_patches.h"
+#include "mode_choice.h"
 
 #include <Eigen/Eigenvalues>
 
@@ -46,10 +47,15 @@ struct FeatureSmoothParams {
   // The pre-pass, normal filter and vertex iteration counts are scaled by the measured roughness:
   // nothing up to a dihedral spread of clean_spread_deg, in full from noisy_spread_deg.
   double clean_spread_deg = 32.0, noisy_spread_deg = 50.0;
+  bool correlated_level = false; // the roughness reads the noise estimate's correlated level
   NormalFilterParams normals = featureNormalFilterDefaults();
   int outer_iterations = 2;   // filter normals, then move vertices; repeated
   int vertex_iterations = 6;  // vertex updates per outer pass
   int patch_iterations = 1;   // how many of the last pass's (the last ones) use face patches
+  // Meshes of planar faces take up to (1 + planar_extra) times the normal filter iterations and
+  // vertex updates: the share of edges flat after the first guidance period, from
+  // planar_share_from (no extra) to planar_share_full (all of it).
+  double planar_extra = 0.0, planar_share_from = 0.2, planar_share_full = 0.3;
   double tangential = 0.5;    // step of the tangential relaxation toward the 1-ring barycentre
   int relax_rings = 1;        // relax vertices within this many rings of a folded face; −1: all
   double fold_cos = 0.5;      // a face is folded when its normal is this far from its filtered one
@@ -81,6 +87,7 @@ struct FeatureSmoothReport {
   double amount = 0;              // the roughness with the user's strength: what scales the passes
   int prepass_pairs = 0;          // Taubin pairs actually run
   int vertex_iterations = 0;      // vertex updates actually run per pass
+  double flat_share = 0;          // edges flat after the first guidance period (planar_extra)
   int normal_iterations = 0;      // normal filter iterations actually run per pass
   double volume_before = 0, volume_after = 0;
   bool closed = false;
@@ -185,14 +192,14 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   report.dihedral_spread_deg = medianDihedralSpreadDeg(current, mesh.faces, geometry, face_rings);
   report.noise = setup.noise;
   report.roughness = detail::measuredRoughness(setup.noise, report.dihedral_spread_deg,
-                                               params.clean_spread_deg, params.noisy_spread_deg);
+                                               params.clean_spread_deg, params.noisy_spread_deg,
+                                               params.correlated_level);
   report.amount = detail::strengthen(report.roughness, params.strength);
   report.prepass_pairs = int(std::lround(report.amount * std::max(0, params.prepass_pairs)));
   NormalFilterParams normal_filter = params.normals;
   normal_filter.iterations = int(std::lround(report.amount * std::max(0, params.normals.iterations)));
   report.normal_iterations = normal_filter.iterations;
-  const int vertex_iterations =
-      int(std::lround(report.amount * std::max(0, params.vertex_iterations)));
+  int vertex_iterations = int(std::lround(report.amount * std::max(0, params.vertex_iterations)));
   report.vertex_iterations = vertex_iterations;
   if (edge > 0) taubinSmooth(current, rings, fixed, roles.boundary_neighbours, report.prepass_pairs);
   report.seconds_prepass = seconds(t);
@@ -209,17 +216,29 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
     // goes on from there (guidance is recomputed every `guidance_every` iterations from the
     // current normals and the spatial weights depend on the unchanged geometry, so the split
     // gives the same normals as one call).
+    const bool scale_by_flatness = params.planar_extra > 0;
     const int check_iterations =
-        pass == 0 && first_pass_check
+        pass == 0 && (first_pass_check || scale_by_flatness)
             ? std::min(normal_filter.iterations, std::max(1, normal_filter.guidance_every))
             : 0;
     if (check_iterations > 0) {
       NormalFilterParams first = normal_filter;
       first.iterations = check_iterations;
       filterNormals(mesh.faces, face_rings, geometry, first, edge, filtered);
-      if (!first_pass_check(filtered, setup)) {
+      if (first_pass_check && !first_pass_check(filtered, setup)) {
         report.seconds_normals += seconds(t);
         return report.declined = true, report;
+      }
+      if (scale_by_flatness) {
+        report.flat_share = sharpFeatureEvidence(filtered, filtered, face_rings).flat_share;
+        const double extra = params.planar_extra *
+                             std::clamp((report.flat_share - params.planar_share_from) /
+                                            (params.planar_share_full - params.planar_share_from),
+                                        0.0, 1.0);
+        normal_filter.iterations = int(std::lround(normal_filter.iterations * (1 + extra)));
+        vertex_iterations = int(std::lround(vertex_iterations * (1 + extra)));
+        report.normal_iterations = normal_filter.iterations;
+        report.vertex_iterations = vertex_iterations;
       }
       NormalFilterParams rest = normal_filter;
       rest.iterations = normal_filter.iterations - check_iterations;
