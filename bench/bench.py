@@ -1036,6 +1036,20 @@ def validate(path, cases, timing):
     return problems
 
 
+def write_between_markers(path, begin, end, lines):
+    """Replaces the text between the `begin` and `end` marker lines of a hand-written report with
+    `lines` (appends the block, markers included, when the file has none)."""
+    path = pathlib.Path(path)
+    block = begin + "\n" + "\n".join(lines) + "\n" + end
+    text = path.read_text() if path.exists() else ""
+    start, stop = text.find(begin), text.find(end)
+    if start >= 0 and stop > start:
+        text = text[:start] + block + text[stop + len(end):]
+    else:
+        text = text + ("\n" if text else "") + block + "\n"
+    path.write_text(text)
+
+
 def finite_text(s):
     try:
         return math.isfinite(float(s))

@@ -102,16 +102,6 @@ def picture(name, meshes, path):
     figures.save(fig, path)
 
 
-def write_report(path, lines):
-    path = pathlib.Path(path)
-    block = MARK_BEGIN + "\n" + "\n".join(lines) + "\n" + MARK_END
-    text = path.read_text() if path.exists() else ""
-    begin, end = text.find(MARK_BEGIN), text.find(MARK_END)
-    text = (text[:begin] + block + text[end + len(MARK_END):] if begin >= 0 and end > begin
-            else text + ("\n" if text else "") + block + "\n")
-    path.write_text(text)
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--build", default=os.environ.get("SBS_BUILD_DIR", str(REPO / "build")))
@@ -184,7 +174,7 @@ def main():
     L += ["", "Pictures (input, then the methods in the table's order; full view above, close-up "
           "below; flat shading, one view and frame per scan):", ""]
     L += [f"![{name}](../docs/img/real_{name}.png)" for name in results]
-    write_report(args.out, L)
+    bench.write_between_markers(args.out, MARK_BEGIN, MARK_END, L)
     log(f"wrote {args.out} ({elapsed / 60:.1f} min)")
     print("\n".join(L))
 

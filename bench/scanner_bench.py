@@ -298,18 +298,6 @@ def pictures(cases, results, img_dir):
     return made
 
 
-def write_report(path, text_lines):
-    path = pathlib.Path(path)
-    block = MARK_BEGIN + "\n" + "\n".join(text_lines) + "\n" + MARK_END
-    text = path.read_text() if path.exists() else ""
-    begin, end = text.find(MARK_BEGIN), text.find(MARK_END)
-    if begin >= 0 and end > begin:
-        text = text[:begin] + block + text[end + len(MARK_END):]
-    else:
-        text = text + ("\n" if text else "") + block + "\n"
-    path.write_text(text)
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--build", default=os.environ.get("SBS_BUILD_DIR", str(REPO / "build")))
@@ -323,6 +311,9 @@ def main():
     ap.add_argument("--img", help="pictures folder (default docs/img)")
     ap.add_argument("--report-only", action="store_true",
                     help="rewrite the report and pictures from the last run's raw.json")
+    ap.add_argument("--times-only", action="store_true",
+                    help="rerun the timing pass only (e.g. on a quieter machine), keep the last "
+                         "run's scores from raw.json, rewrite the report")
     args = ap.parse_args()
     started = time.time()
     work = REPO / "bench" / "out" / ("scanner_quick" if args.quick else "scanner")
@@ -332,17 +323,29 @@ def main():
     if not sd_filter.available():
         sys.exit(f"{sd_filter.BINARY} not found: apt-get install {sd_filter.PACKAGE} "
                  "(bash bench/run.sh installs it)")
-    if (work / "runs").exists() and not args.report_only:
+    reuse = args.report_only or args.times_only
+    if (work / "runs").exists() and not reuse:
         import shutil
         shutil.rmtree(work / "runs")  # an older run's results must not be scored again
     work.mkdir(parents=True, exist_ok=True)
     runner = bench.Runner(pathlib.Path(args.build).resolve(), work)
     cases = make_scanner_cases(work, args.quick)
     light = [] if args.quick else make_light_cases(runner, work)
-    if args.report_only:
+    if reuse:
         raw = json.loads((work / "raw.json").read_text())
         results, times, machine = raw["results"], raw["times"], raw["machine"]
-        elapsed, args.runs = raw["elapsed"], raw.get("runs", args.runs)
+        elapsed = raw["elapsed"]
+        if args.times_only:
+            runner.start_xvfb()
+            try:
+                times = run_times(runner, cases + ([] if args.quick else
+                                                   [make_timing_case(work)]), args.runs)
+            finally:
+                runner.stop_xvfb()
+            machine["times_rerun"] = bench.machine_info()
+            raw.update(times=times, machine=machine, runs=args.runs)
+            (work / "raw.json").write_text(json.dumps(raw, indent=1, default=str))
+        args.runs = raw.get("runs", args.runs)
     else:
         signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
         runner.start_xvfb()
@@ -366,8 +369,12 @@ def main():
         (f" --build {args.build}" if args.build != str(REPO / "build") else "")
     L = [f"Produced by `{cmd}` on {machine['date']}, commit {machine['commit']}, in "
          f"{elapsed / 60:.1f} min ({args.jobs} parallel quality runs; load average "
-         f"{machine['load']} at the start). Do not edit by hand: rerun the command.", "",
-         "### Scanner-noise cases", ""]
+         f"{machine['load']} at the start). Do not edit by hand: rerun the command."]
+    if "times_rerun" in machine:
+        t = machine["times_rerun"]
+        L[-1] += (f" Times rerun with `{cmd} --times-only` on {t['date']}, commit {t['commit']} "
+                  f"(load average {t['load']} at its start).")
+    L += ["", "### Scanner-noise cases", ""]
     L += scanner_tables(cases, results, times, args.runs)
     if light:
         L += ["", "### Light noise in random directions", "",
@@ -380,7 +387,7 @@ def main():
         L += ["", "### Pictures", "", "Flat shading, the same view and frame in every panel; "
               "the SD filter's panel is its better (by θ) of defaults and best setting.", ""]
         L += [f"![{m}](../docs/img/{m})" for m in made]
-    write_report(out, L)
+    bench.write_between_markers(out, MARK_BEGIN, MARK_END, L)
     log(f"wrote {out} ({elapsed / 60:.1f} min)")
     print("\n".join(L))
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "filter_parameters.h"
+#include "memory_check.h"
 
 #include <vcg/complex/algorithms/update/bounding.h>
 #include <vcg/complex/algorithms/update/color.h>
@@ -16,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <new>
 #include <typeindex>
 
 namespace saliency_bezier {
@@ -30,12 +32,7 @@ struct FilterOutcome {
 
 namespace detail {
 
-inline std::string format(const char *fmt, double a = 0, double b = 0, double c = 0,
-                          double d = 0) {
-  char buffer[256];
-  std::snprintf(buffer, sizeof buffer, fmt, a, b, c, d);
-  return buffer;
-}
+using vcg_ext::detail::formatLine;
 
 // `value` in the mesh's scalar type: NaN as 0 and anything beyond the type's range as its largest
 // value, counted in `clamped` (found by the fuzzer: a float mesh 3e-30 across has K = 1e59).
@@ -47,28 +44,52 @@ Scalar storable(double value, long &clamped) {
   return Scalar(value);
 }
 
-// Stores `values` (compact order) as the per-vertex attribute `name` of the mesh's scalar type,
-// replacing an attribute of that name but another type.
-template <class MeshType>
-void storeAttribute(MeshType &m, const vcg_ext::MeshArrays &arrays, const std::string &name,
-                    const std::vector<double> &values, long &clamped) {
+// The per-vertex attributes a filter writes, made (allocated) before anything of the mesh is
+// changed: running out of memory here removes the ones it made and leaves the mesh as it was.
+template <class MeshType> class AttributeSet {
+public:
   using Scalar = typename MeshType::ScalarType;
   using Allocator = vcg::tri::Allocator<MeshType>;
-  // vcglib's lookup compares only the size: an int attribute of this name (another filter's) would
-  // come back as a float handle and be written through the wrong type (found by the fuzzer).
-  for (const auto &attribute : m.vert_attr)
-    if (attribute._name == name && attribute._type != std::type_index(typeid(Scalar))) {
-      Allocator::DeletePerVertexAttribute(m, name);
-      break;
+  using Handle = typename MeshType::template PerVertexAttributeHandle<Scalar>;
+
+  AttributeSet(MeshType &m, const std::vector<std::string> &names) : m_(m) {
+    try {
+      for (const std::string &name : names) handles_.push_back(handleFor(name));
+    } catch (const std::bad_alloc &) {
+      for (const std::string &name : made_) Allocator::DeletePerVertexAttribute(m_, name);
+      throw;
     }
-  auto handle = Allocator::template FindPerVertexAttribute<Scalar>(m, name);
-  if (!Allocator::template IsValidHandle<Scalar>(m, handle)) {
-    Allocator::DeletePerVertexAttribute(m, name);
-    handle = Allocator::template AddPerVertexAttribute<Scalar>(m, name);
   }
-  for (size_t c = 0; c < values.size(); ++c)
-    handle[arrays.mesh_slot[c]] = storable<Scalar>(values[c], clamped);
-}
+  // Stores `values` (compact order) as attribute `k`.
+  void store(size_t k, const vcg_ext::MeshArrays &arrays, const std::vector<double> &values,
+             long &clamped) {
+    for (size_t c = 0; c < values.size(); ++c)
+      handles_[k][arrays.mesh_slot[c]] = storable<Scalar>(values[c], clamped);
+  }
+
+private:
+  // The attribute `name` of the mesh's scalar type, replacing one of that name but another type.
+  Handle handleFor(const std::string &name) {
+    // vcglib's lookup compares only the size: an int attribute of this name (another filter's)
+    // would come back as a float handle and be written through the wrong type (found by the
+    // fuzzer).
+    for (const auto &attribute : m_.vert_attr)
+      if (attribute._name == name && attribute._type != std::type_index(typeid(Scalar))) {
+        Allocator::DeletePerVertexAttribute(m_, name);
+        break;
+      }
+    auto handle = Allocator::template FindPerVertexAttribute<Scalar>(m_, name);
+    if (!Allocator::template IsValidHandle<Scalar>(m_, handle)) {
+      Allocator::DeletePerVertexAttribute(m_, name);
+      handle = Allocator::template AddPerVertexAttribute<Scalar>(m_, name);
+      made_.push_back(name);
+    }
+    return handle;
+  }
+  MeshType &m_;
+  std::vector<Handle> handles_;
+  std::vector<std::string> made_;
+};
 
 // Stores `values` (already on their display scale) as vertex quality and, with `color`, colours
 // the vertices by it over its full range as MeshLab's Colorize by vertex Quality does at its
@@ -108,8 +129,8 @@ inline std::string checkRange(const ParameterValues &p, const std::string &name,
                               double hi) {
   const double value = p.at(name);
   if (!(value >= lo && value <= hi))
-    return "Parameter '" + name + "' = " + format("%g", value) + " is outside [" +
-           format("%g", lo) + ", " + format("%g", hi) + "].";
+    return "Parameter '" + name + "' = " + formatLine("%g", value) + " is outside [" +
+           formatLine("%g", lo) + ", " + formatLine("%g", hi) + "].";
   return {};
 }
 
@@ -120,9 +141,11 @@ inline vcg_ext::ProgressFn progressOf(vcg::CallBackPos *cb) {
 
 } // namespace detail
 
-// "Compute Mesh Saliency and Principal Curvatures": stages 1-3, positions untouched.
+namespace detail {
+
+// "Compute Mesh Saliency and Principal Curvatures" (applyComputeSaliency) without the memory guard.
 template <class MeshType>
-FilterOutcome applyComputeSaliency(MeshType &m, const ParameterValues &p, vcg::CallBackPos *cb) {
+FilterOutcome computeSaliencyRun(MeshType &m, const ParameterValues &p, vcg::CallBackPos *cb) {
   FilterOutcome out;
   const vcg_ext::MeshArrays arrays = vcg_ext::extractArrays(m);
   out.error = detail::rejectMesh(m, arrays);
@@ -145,17 +168,14 @@ FilterOutcome applyComputeSaliency(MeshType &m, const ParameterValues &p, vcg::C
   const vcg_ext::CurvatureField &c = analysis.curvature;
   const std::vector<double> *quantities[] = {&analysis.saliency, &c.mean, &c.gauss, &c.k1, &c.k2};
   const int quality = int(p.at("quality"));
-  out.colored = detail::storeQuality(
-      m, arrays,
-      detail::displayed(qualityChoices(FilterId::ComputeSaliencyCurvature)[quality],
-                        *quantities[quality]),
-      color);
+  // Everything that allocates comes before the first change to the mesh.
+  const std::vector<double> shown = detail::displayed(
+      qualityChoices(FilterId::ComputeSaliencyCurvature)[quality], *quantities[quality]);
+  detail::AttributeSet<MeshType> attributes(
+      m, {"Saliency", "MeanCurvature", "GaussianCurvature", "K1", "K2"});
+  out.colored = detail::storeQuality(m, arrays, shown, color);
   long clamped = 0;
-  detail::storeAttribute(m, arrays, "Saliency", analysis.saliency, clamped);
-  detail::storeAttribute(m, arrays, "MeanCurvature", c.mean, clamped);
-  detail::storeAttribute(m, arrays, "GaussianCurvature", c.gauss, clamped);
-  detail::storeAttribute(m, arrays, "K1", c.k1, clamped);
-  detail::storeAttribute(m, arrays, "K2", c.k2, clamped);
+  for (size_t k = 0; k < 5; ++k) attributes.store(k, arrays, *quantities[k], clamped);
   if (vcg::tri::HasPerVertexCurvatureDir(m)) {
     using Dir = typename MeshType::VertexType::CurVecType;
     using DirScalar = typename Dir::ScalarType;
@@ -179,26 +199,24 @@ FilterOutcome applyComputeSaliency(MeshType &m, const ParameterValues &p, vcg::C
     isolated += rings.isolated[i];
     mean_abs_h += std::abs(c.mean[i]) / arrays.points.size();
   }
-  out.log.push_back(detail::format(
+  out.log.push_back(detail::formatLine(
       "Saliency and curvature of %.0f vertices in %.3f s (epsilon = %g of the bbox diagonal).",
       double(arrays.points.size()), seconds, scale / stats.bbox_diagonal));
-  out.log.push_back(detail::format("Vertices with saliency > 0.5: %.0f; mean |H| = %g; "
+  out.log.push_back(detail::formatLine("Vertices with saliency > 0.5: %.0f; mean |H| = %g; "
                                    "boundary vertices (curvature from neighbours): %.0f.",
                                    double(salient), mean_abs_h, double(boundary)));
   if (nonmanifold + isolated > 0)
-    out.log.push_back(detail::format("Curvature and saliency undefined, set to 0: %.0f "
+    out.log.push_back(detail::formatLine("Curvature and saliency undefined, set to 0: %.0f "
                                      "non-manifold, %.0f isolated (in no face) vertices.",
                                      double(nonmanifold), double(isolated)));
   if (clamped > 0)
-    out.log.push_back(detail::format("%.0f per-vertex values were NaN or beyond the mesh's number "
+    out.log.push_back(detail::formatLine("%.0f per-vertex values were NaN or beyond the mesh's number "
                                      "range (a tiny mesh or tiny faces): stored as 0 or the largest "
                                      "representable value.",
                                      double(clamped)));
   out.ok = true;
   return out;
 }
-
-namespace detail {
 
 // Writes a smoothing run's positions, quality and attributes into the mesh; returns how many
 // per-vertex values had to be clamped to the mesh's number range.
@@ -207,21 +225,17 @@ long storeSmoothingResult(MeshType &m, const vcg_ext::MeshArrays &arrays,
                           const std::vector<vcg_ext::Vec3> &result,
                           const vcg_ext::VertexQuantities &q, int quality, bool color,
                           bool &colored) {
-  vcg_ext::writePositions(m, arrays, result);
   const std::vector<double> *quantities[] = {&q.saliency, &q.mean, &q.gauss, &q.k1,
                                              &q.k2,       &q.alpha, &q.displacement};
-  colored = storeQuality(
-      m, arrays,
-      displayed(qualityChoices(FilterId::SaliencyBezierSmooth)[quality], *quantities[quality]),
-      color);
+  // Everything that allocates comes before the first change to the mesh.
+  const std::vector<double> shown =
+      displayed(qualityChoices(FilterId::SaliencyBezierSmooth)[quality], *quantities[quality]);
+  AttributeSet<MeshType> attributes(m, {"Saliency", "MeanCurvature", "GaussianCurvature", "K1",
+                                        "K2", "Alpha", "Displacement"});
+  vcg_ext::writePositions(m, arrays, result);
+  colored = storeQuality(m, arrays, shown, color);
   long clamped = 0;
-  storeAttribute(m, arrays, "Saliency", q.saliency, clamped);
-  storeAttribute(m, arrays, "MeanCurvature", q.mean, clamped);
-  storeAttribute(m, arrays, "GaussianCurvature", q.gauss, clamped);
-  storeAttribute(m, arrays, "K1", q.k1, clamped);
-  storeAttribute(m, arrays, "K2", q.k2, clamped);
-  storeAttribute(m, arrays, "Alpha", q.alpha, clamped);
-  storeAttribute(m, arrays, "Displacement", q.displacement, clamped);
+  for (size_t k = 0; k < 7; ++k) attributes.store(k, arrays, *quantities[k], clamped);
   if (vcg::tri::HasPerVertexNormal(m) && vcg::tri::HasPerFaceNormal(m))
     vcg::tri::UpdateNormal<MeshType>::PerVertexNormalizedPerFaceNormalized(m);
   vcg::tri::UpdateBounding<MeshType>::Box(m);
@@ -229,7 +243,7 @@ long storeSmoothingResult(MeshType &m, const vcg_ext::MeshArrays &arrays,
 }
 
 inline std::string clampedLog(long clamped) {
-  return format("%.0f per-vertex values were NaN or beyond the mesh's number range (a tiny mesh "
+  return formatLine("%.0f per-vertex values were NaN or beyond the mesh's number range (a tiny mesh "
                 "or tiny faces): stored as 0 or the largest representable value.",
                 double(clamped));
 }
@@ -275,21 +289,24 @@ inline std::string checkSmoothingParameters(const ParameterValues &p) {
   // The measured methods take iterations as a strength in thirds: 30 is ten times the measured
   // amount, already far past any use (the paper's methods count plain iterations up to 1000).
   if (int(p.at("placement")) >= 3 && p.at("iterations") > 30)
-    return "Parameter 'iterations' = " + detail::format("%g", p.at("iterations")) +
+    return "Parameter 'iterations' = " + detail::formatLine("%g", p.at("iterations")) +
            " is the strength in thirds for this method (3 = as measured) and at most 30.";
   return {};
 }
 
-// "Saliency Bezier Smooth": the method the table lists at `placement`; the mesh changes only when
-// the run completes.
+namespace detail {
+
+// "Saliency Bezier Smooth" (applySaliencyBezierSmooth) without the memory guard.
 template <class MeshType>
-FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
-                                        vcg::CallBackPos *cb) {
+FilterOutcome smoothRun(MeshType &m, const ParameterValues &p, vcg::CallBackPos *cb) {
   FilterOutcome out;
-  const vcg_ext::MeshArrays arrays = vcg_ext::extractArrays(m);
+  vcg_ext::MeshArrays arrays = vcg_ext::extractArrays(m);
   out.error = detail::rejectMesh(m, arrays);
   if (out.error.empty()) out.error = checkSmoothingParameters(p);
   if (!out.error.empty()) return out;
+  const vcg_ext::MethodRow &method = vcg_ext::methodTable()[size_t(p.at("placement"))];
+  // In the order the method runs in (the mesh slots follow), instead of a second, ordered copy.
+  if (method.runs_in_spatial_order) vcg_ext::putInSpatialOrder(arrays);
   const vcg_ext::MethodParams params = methodParamsOf(p);
   if (params.selected_only) {
     bool any = false;
@@ -300,7 +317,6 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
 
   std::vector<vcg_ext::Vec3> result;
   vcg_ext::VertexQuantities q;
-  const vcg_ext::MethodRow &method = vcg_ext::methodTable()[size_t(p.at("placement"))];
   const vcg_ext::MethodRun run =
       method.run(arrays, params, result, q, detail::progressOf(cb));
   if (run.cancelled) return out.error = "Cancelled: the mesh is unchanged.", out;
@@ -313,6 +329,53 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
   if (clamped > 0) out.log.push_back(detail::clampedLog(clamped));
   out.ok = true;
   return out;
+}
+
+// Runs `run` (a filter on `m`) unless the memory it needs (`cost`, measured) is not there, and
+// turns running out of memory all the same into a refusal: the run's own arrays are freed as the
+// exception unwinds, and the mesh changes only after everything that allocates (AttributeSet), so
+// it is left as it was. `what`: "smoothing" or "analysing", for the message.
+template <class MeshType, class Run>
+FilterOutcome withinMemory(const MeshType &m, const MemoryCost &cost, const char *what, Run run) {
+  const double needed = cost.bytes(m.vn, m.fn);
+  const std::string size = formatLine("%.0f vertices, %.0f faces", double(m.vn), double(m.fn));
+  const MemoryRoom room = memoryRoom();
+  if (needed > memory_room_scale * room.bytes) {
+    FilterOutcome out;
+    out.error = std::string("Not enough memory: ") + what + " this mesh (" + size + ") needs about " +
+                memoryText(needed) + " more than the mesh itself, and " + room.limit +
+                " leaves " + memoryText(room.bytes) + ". The mesh is unchanged.";
+    return out;
+  }
+  try {
+    return run();
+  } catch (const std::bad_alloc &) {
+    FilterOutcome out;
+    out.error = std::string("Out of memory while ") + what + " this mesh (" + size +
+                "): the run needs about " + memoryText(needed) +
+                " more than the mesh itself, more than could be allocated" +
+                (room.limit.empty() ? std::string() : " (" + room.limit + ")") +
+                ". The mesh is unchanged.";
+    return out;
+  }
+}
+
+} // namespace detail
+
+// "Compute Mesh Saliency and Principal Curvatures": stages 1-3, positions untouched.
+template <class MeshType>
+FilterOutcome applyComputeSaliency(MeshType &m, const ParameterValues &p, vcg::CallBackPos *cb) {
+  return detail::withinMemory(m, analysisMemoryCost(), "analysing",
+                              [&] { return detail::computeSaliencyRun(m, p, cb); });
+}
+
+// "Saliency Bezier Smooth": the method the table lists at `placement`; the mesh changes only when
+// the run completes.
+template <class MeshType>
+FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
+                                        vcg::CallBackPos *cb) {
+  return detail::withinMemory(m, smoothingMemoryCost(), "smoothing",
+                              [&] { return detail::smoothRun(m, p, cb); });
 }
 
 // Default values of a filter's parameters (for tests and tools that call the filters directly).

@@ -4,7 +4,9 @@
 //   smooth_mesh [--filter smooth|saliency] <in> <out.ply> [name=value ...]
 //
 // Parameters as in the .mlx scripts (enums by index, label or method key; see write_mlx). Prints the filter's log, then one JSON line
-// with the wall time. Exit code 2 when the filter refuses the mesh (the reason on stderr).
+// with the wall time and the process's memory (MB) before the filter and at its peak (resident
+// set and mapped address space, from /proc/self/status: what the filter's memory estimate is
+// measured from). Exit code 2 when the filter refuses the mesh (the reason on stderr).
 #include "tool_mesh.h"
 
 #include <filter_saliency_bezier_smooth/apply_filters.h>
@@ -49,6 +51,8 @@ int main(int argc, char **argv) {
   }
   tool_mesh::Mesh mesh;
   if (!tool_mesh::load(mesh, in, "smooth_mesh")) return 2;
+  const double rss_before = detail::procField("/proc/self/status", "VmRSS"),
+               vm_before = detail::procField("/proc/self/status", "VmSize");
   const auto start = std::chrono::steady_clock::now();
   const FilterOutcome outcome = id == FilterId::SaliencyBezierSmooth
                                     ? applySaliencyBezierSmooth(mesh, values, nullptr)
@@ -61,6 +65,10 @@ int main(int argc, char **argv) {
     return 2;
   }
   if (!tool_mesh::save(mesh, out, "smooth_mesh", true)) return 2;
-  std::printf("{\"seconds\": %.6f, \"vertices\": %d}\n", seconds, mesh.vn);
+  std::printf("{\"seconds\": %.6f, \"vertices\": %d, \"rss_before_mb\": %.1f, "
+              "\"peak_rss_mb\": %.1f, \"vm_before_mb\": %.1f, \"peak_vm_mb\": %.1f}\n",
+              seconds, mesh.vn, rss_before / 1e6,
+              detail::procField("/proc/self/status", "VmHWM") / 1e6, vm_before / 1e6,
+              detail::procField("/proc/self/status", "VmPeak") / 1e6);
   return 0;
 }

@@ -50,8 +50,7 @@ inline AutoSmoothReport autoSmoothAsGiven(const MeshArrays &mesh, const AutoSmoo
   AutoSmoothReport report;
   const bool selected_only = params.feature.selected_only;
   const auto start = std::chrono::steady_clock::now();
-  const detail::DriverSetup setup =
-      detail::driverSetup(mesh, selected_only, params.feature.boundary);
+  detail::DriverSetup setup = detail::driverSetup(mesh, selected_only, params.feature.boundary);
   report.seconds_setup =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   OrganicSmoothParams organic_params = params.organic;
@@ -62,12 +61,14 @@ inline AutoSmoothReport autoSmoothAsGiven(const MeshArrays &mesh, const AutoSmoo
       mesh, params.feature, out_points, quantities, progress,
       [&](const std::vector<Vec3> &filtered, const detail::DriverSetup &) {
         const auto reference_start = std::chrono::steady_clock::now();
-        std::vector<Vec3> smoothed = mesh.points;
-        taubinSmooth(smoothed, setup.rings, setup.fixed, setup.roles.boundary_neighbours,
-                     params.reference_pairs);
-        FaceGeometry geometry;
-        computeFaceGeometry(smoothed, mesh.faces, geometry);
-        report.evidence = sharpFeatureEvidence(filtered, geometry.normal, setup.face_rings,
+        std::vector<Vec3> reference_normals;
+        {
+          std::vector<Vec3> smoothed = mesh.points;
+          taubinSmooth(smoothed, setup.rings, setup.fixed, setup.roles.boundary_neighbours,
+                       params.reference_pairs);
+          computeFaceNormals(smoothed, mesh.faces, reference_normals);
+        }
+        report.evidence = sharpFeatureEvidence(filtered, reference_normals, setup.face_rings,
                                                params.crease_deg, params.confirm_deg,
                                                params.flat_deg);
         report.seconds_reference =

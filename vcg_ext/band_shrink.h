@@ -216,19 +216,16 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   // moved or scaled mesh rarely changes a cell, fine enough that two vertices rarely share one).
   // Raw coordinates gave another probe, and a result 1e-3 of the bbox diagonal away, when the mesh
   // was scaled or moved (or gained an isolated vertex that widened the box).
-  std::vector<Vec3> probe_key(n);
-  double mean_edge = 0;
-  {
-    Vec3 lowest = Vec3::Constant(INFINITY);
-    for (int v = 0; v < n; ++v)
-      if (rings.ring1Size(v) > 0) lowest = lowest.cwiseMin(points[v]);
-    mean_edge = edgeStatistics(points, rings).mean_edge_length;
-    const double cell = mean_edge / 16.0;
-    for (int v = 0; v < n; ++v)
-      probe_key[v] = cell > 0 && rings.ring1Size(v) > 0
-                         ? Vec3(((points[v] - lowest) / cell).array().floor())
-                         : Vec3::Zero();
-  }
+  // (`points` stay as they are until the end: the keys are computed where they are needed.)
+  Vec3 lowest = Vec3::Constant(INFINITY);
+  for (int v = 0; v < n; ++v)
+    if (rings.ring1Size(v) > 0) lowest = lowest.cwiseMin(points[v]);
+  const double mean_edge = edgeStatistics(points, rings).mean_edge_length;
+  const double cell = mean_edge / 16.0;
+  auto probe_key = [&](int v) {
+    return cell > 0 && rings.ring1Size(v) > 0 ? Vec3(((points[v] - lowest) / cell).array().floor())
+                                              : Vec3::Zero();
+  };
   // The scale space and the probe's, one Taubin run for both; the probe's bands are consumed at
   // once. Both live in the renumbered order of `taubin`; every sum below runs in vertex order.
   const SpatialTaubin taubin(points, rings, fixed, curve);
@@ -242,18 +239,25 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
     report.gains.assign(bands, 1.0);
     return report;
   }
-  auto hashed_probe = [&](std::uint64_t stream) {
-    std::vector<Vec3> probe(n);
+  auto hashed_probe = [&](std::uint64_t stream, std::vector<Vec3> &probe) {
+    probe.resize(n);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
     for (int v = 0; v < n; ++v)
-      probe[v] = report.noise_sigma * detail::positionHashedGaussian(probe_key[v], stream);
-    return taubin.toLocal(probe);
+      probe[taubin.local(v)] =
+          report.noise_sigma * detail::positionHashedGaussian(probe_key(v), stream);
   };
   const double lambda = params.lambda, mu = params.mu;
   // Boundary vertices stop following their curve from band `boundary_pairs` on.
   auto boundary_still = [&](int b) { return edges[b] >= params.boundary_pairs; };
-  std::vector<std::vector<Vec3>> snapshot(bands + 1);
-  std::vector<Vec3> probe = hashed_probe(0), probe_previous;
+  // The scale space is kept as its bands, band[b] = snapshot b − snapshot b+1 in single precision
+  // (a band is a small difference of positions: its float rounding is ~1e-7 of the band, far below
+  // anything the gains resolve), and the coarsest snapshot in double: 12 instead of 24 bytes per
+  // vertex and band.
+  std::vector<std::vector<Eigen::Vector3f>> band(bands);
+  std::vector<Vec3> probe, probe_previous, coarse = taubin.toLocal(points), previous;
+  hashed_probe(0, probe);
   std::vector<double> noise_energy(bands, 0.0), noise_trimmed(bands, 0.0), values;
+  // Mean of the values below the robust quantile (reorders x).
   auto trimmed_mean = [&](std::vector<double> &x) {
     if (x.empty()) return 0.0;
     const size_t keep = std::max<size_t>(1, size_t(params.robust_quantile * double(x.size())));
@@ -263,13 +267,21 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
     return sum / double(keep);
   };
   const bool robust = params.robust_quantile < 1.0;
-  snapshot[0] = taubin.toLocal(points);
-  taubin.smooth({&snapshot[0], &probe}, edges[0], lambda, mu);
+  // Only the finest bands are trimmed: the others need no per-value copy (3 doubles per vertex).
+  auto trim_band = [&](int b) { return robust && edges[b + 1] <= params.robust_max_pairs; };
+  const auto normal_at =
+      std::find(edges.begin(), edges.end(), params.normal_pairs) - edges.begin();
+  auto take_normals = [&] { computeVertexNormals(taubin.toGlobal(coarse), faces, rings, normals); };
+  taubin.smooth({&coarse, &probe}, edges[0], lambda, mu);
+  if (normal_at == 0) take_normals();
   for (int b = 0; b < bands; ++b) {
-    snapshot[b + 1] = snapshot[b];
+    previous = coarse;
     probe_previous = probe;
-    taubin.smooth({&snapshot[b + 1], &probe}, edges[b + 1] - edges[b], lambda, mu,
-                  boundary_still(b));
+    taubin.smooth({&coarse, &probe}, edges[b + 1] - edges[b], lambda, mu, boundary_still(b));
+    band[b].resize(n);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+    for (int l = 0; l < n; ++l) band[b][l] = (previous[l] - coarse[l]).cast<float>();
+    if (normal_at == b + 1 || (b + 1 == bands && normal_at > bands)) take_normals();
     // Three independent probes in one: the components; a band's noise along the normal has their
     // mean variance.
     values.clear();
@@ -277,38 +289,35 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
       if (counted[v]) {
         const int l = taubin.local(v);
         noise_energy[b] += (probe_previous[l] - probe[l]).squaredNorm() / 3.0;
-        if (robust)
+        if (trim_band(b))
           for (int k = 0; k < 3; ++k) values.push_back(std::pow(probe_previous[l][k] - probe[l][k], 2));
       }
-    if (robust) noise_trimmed[b] = trimmed_mean(values);
+    if (trim_band(b)) noise_trimmed[b] = trimmed_mean(values);
     if (progress && !progress(0.9 * (b + 1) / bands)) {
       report.cancelled = true;
       return report;
     }
   }
-  const auto normal_at =
-      std::find(edges.begin(), edges.end(), params.normal_pairs) - edges.begin();
-  computeVertexNormals(taubin.toGlobal(snapshot[std::min<long>(normal_at, bands)]), faces, rings,
-                       normals);
+  std::vector<Vec3>().swap(previous);
   std::vector<double> energy(bands, 0.0), energy_trimmed(bands, 0.0);
   for (int b = 0; b < bands; ++b) {
     values.clear();
     for (int v = 0; v < n; ++v)
       if (counted[v]) {
-        const int l = taubin.local(v);
-        const double along = (snapshot[b][l] - snapshot[b + 1][l]).dot(normals[v]);
+        const double along = band[b][taubin.local(v)].cast<double>().dot(normals[v]);
         energy[b] += along * along;
-        if (robust) values.push_back(along * along);
+        if (trim_band(b)) values.push_back(along * along);
       }
-    if (robust) energy_trimmed[b] = trimmed_mean(values);
+    if (trim_band(b)) energy_trimmed[b] = trimmed_mean(values);
   }
+  std::vector<double>().swap(values);
   const int fine = std::clamp(params.fine_band, 0, bands - 1);
   double fine_noise = noise_energy[fine];
   const int probes = std::clamp(int(std::ceil(params.fine_band_probe_vertices / count)), 1,
                                 std::max(1, params.max_fine_band_probes));
   report.fine_band_probes = probes;
   for (int extra = 1; extra < probes; ++extra) {
-    probe = hashed_probe(extra);
+    hashed_probe(extra, probe);
     taubin.smooth({&probe}, edges[0], lambda, mu);
     for (int b = 0; b < fine; ++b)
       taubin.smooth({&probe}, edges[b + 1] - edges[b], lambda, mu, boundary_still(b));
@@ -344,7 +353,7 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   // it); spikes (robust bands) count by the energies below the robust quantile.
   for (int b = 0; b < bands; ++b) {
     const double colour = b < int(params.noise_colour.size()) ? params.noise_colour[b] : 1.0;
-    const bool trimmed = robust && edges[b + 1] <= params.robust_max_pairs;
+    const bool trimmed = trim_band(b);
     const double noise = trimmed ? noise_trimmed[b] : noise_energy[b];
     const double total = trimmed ? energy_trimmed[b] : energy[b];
     report.gains[b] =
@@ -354,8 +363,8 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
   for (int v = 0; v < n; ++v) {
     const int l = taubin.local(v);
-    Vec3 p = snapshot[bands][l];
-    for (int b = 0; b < bands; ++b) p += report.gains[b] * (snapshot[b][l] - snapshot[b + 1][l]);
+    Vec3 p = coarse[l];
+    for (int b = 0; b < bands; ++b) p += report.gains[b] * band[b][l].cast<double>();
     if (p.allFinite()) points[v] = p;
   }
   return report;

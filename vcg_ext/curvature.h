@@ -59,6 +59,27 @@ inline void computeVertexNormals(const std::vector<Vec3> &points, const std::vec
   }
 }
 
+// computeVertexNormals at the boundary vertices only, the same values to the bit (each face's
+// cross product computed where it is summed); the other entries are left as they are. What the
+// boundary moves of the drivers need, without a pass over every face per vertex update.
+inline void computeBoundaryVertexNormals(const std::vector<Vec3> &points,
+                                         const std::vector<Face> &faces, const Rings &rings,
+                                         std::vector<Vec3> &normals) {
+  const int n = rings.vertex_count;
+  normals.resize(n);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+  for (int v = 0; v < n; ++v) {
+    if (!rings.boundary[v]) continue;
+    Vec3 sum = Vec3::Zero();
+    for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) {
+      const Face &t = faces[*f];
+      sum += (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
+    }
+    const double length = sum.norm();
+    normals[v] = (length > 0 && std::isfinite(length)) ? Vec3(sum / length) : Vec3::Zero();
+  }
+}
+
 namespace detail {
 
 // A triangle counts as degenerate when its area is negligible against its longest edge.
@@ -116,9 +137,11 @@ inline Eigen::Vector3d solveTensorFit(const Eigen::Matrix3d &M, const Eigen::Vec
 
 // Meyer et al. 2003 H, K, k1, k2 plus a per-vertex curvature tensor fit for the directions.
 // Non-manifold, isolated and degenerate-face vertices get zeros (directions: a tangent frame when
-// the normal exists, zero otherwise). Boundary vertices: see the second pass.
+// the normal exists, zero otherwise). Boundary vertices: see the second pass. `with_directions`
+// false leaves dir1 and dir2 empty and skips the tensor fit (H, K, k1, k2 are the same to the
+// bit): what describes a smoothing result needs no directions (48 bytes per vertex).
 inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<Face> &faces,
-                             const Rings &rings, CurvatureField &out) {
+                             const Rings &rings, CurvatureField &out, bool with_directions = true) {
   const int n = rings.vertex_count;
   computeVertexNormals(points, faces, rings, out.normal);
   out.area.assign(n, 0.0);
@@ -126,8 +149,8 @@ inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<
   out.gauss.assign(n, 0.0);
   out.k1.assign(n, 0.0);
   out.k2.assign(n, 0.0);
-  out.dir1.assign(n, Vec3::Zero());
-  out.dir2.assign(n, Vec3::Zero());
+  out.dir1.assign(with_directions ? n : 0, Vec3::Zero());
+  out.dir2.assign(with_directions ? n : 0, Vec3::Zero());
   // Vertices whose Meyer values are defined: the ones boundary vertices borrow from.
   std::vector<std::uint8_t> interior_valid(n, 0);
   std::vector<std::uint8_t> degenerate(n, 0);
@@ -138,8 +161,7 @@ inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<
     Vec3 t1 = Vec3::Zero(), t2 = Vec3::Zero();
     if (normal.squaredNorm() > 0) {
       detail::tangentFrame(normal, t1, t2);
-      out.dir1[v] = t1;
-      out.dir2[v] = t2;
+      if (with_directions) out.dir1[v] = t1, out.dir2[v] = t2;
     }
     if (rings.isolated[v] || rings.nonmanifold[v] || normal.squaredNorm() == 0) continue;
 
@@ -181,7 +203,7 @@ inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<
         // The edge's direction in the tangent plane is (c, s) = (x, y)/|(x, y)|; the row
         // (c², 2cs, s²) needs no square root.
         const double x = edge.dot(t1), y = edge.dot(t2), tangent2 = x * x + y * y;
-        if (!(tangent2 > 1e-24 * length2)) continue;
+        if (!with_directions || !(tangent2 > 1e-24 * length2)) continue;
         // The neighbour lies below the tangent plane on a sphere: curvature positive.
         const double kappa = -2 * along_normal / length2;
         const Eigen::Vector3d row = Eigen::Vector3d(x * x, 2 * x * y, y * y) / tangent2;
@@ -205,13 +227,14 @@ inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<
     out.gauss[v] = K;
     out.k1[v] = H + root;
     out.k2[v] = H - root;
+    interior_valid[v] = 1;
+    if (!with_directions) continue;
     normal_matrix(1, 0) = normal_matrix(0, 1); // (the loop filled the upper triangle)
     normal_matrix(2, 0) = normal_matrix(0, 2);
     normal_matrix(2, 1) = normal_matrix(1, 2);
     const Eigen::Vector3d tensor = detail::solveTensorFit(normal_matrix, rhs);
     detail::tensorDirections(tensor[0], tensor[1], tensor[2], t1, t2, normal, out.dir1[v],
                              out.dir2[v]);
-    interior_valid[v] = 1;
   }
 
   // Boundary vertices: the angle deficit is undefined there, so H, K, k1, k2 are the averages of
@@ -231,7 +254,8 @@ inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<
       K += out.gauss[*w];
       k1 += out.k1[*w];
       k2 += out.k2[*w];
-      tensor += (out.k1[*w] - out.k2[*w]) * out.dir1[*w] * out.dir1[*w].transpose();
+      if (with_directions)
+        tensor += (out.k1[*w] - out.k2[*w]) * out.dir1[*w] * out.dir1[*w].transpose();
       ++count;
     }
     if (count == 0) continue;
@@ -239,6 +263,7 @@ inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<
     out.gauss[v] = K / count;
     out.k1[v] = k1 / count;
     out.k2[v] = k2 / count;
+    if (!with_directions) continue;
     const Vec3 t1 = out.dir1[v], t2 = out.dir2[v]; // the tangent frame set in the first pass
     detail::tensorDirections(t1.dot(tensor * t1), t1.dot(tensor * t2), t2.dot(tensor * t2), t1,
                              t2, out.normal[v], out.dir1[v], out.dir2[v]);

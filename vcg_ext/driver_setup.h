@@ -237,7 +237,7 @@ inline long describeResult(const std::vector<Vec3> &input, const std::vector<Vec
                            double saliency_scale, VertexQuantities &quantities) {
   const int n = int(result.size());
   SurfaceAnalysis analysis;
-  analyseSurface(result, faces, rings, saliency_scale, analysis);
+  analyseSurface(result, faces, rings, saliency_scale, analysis, /*with_directions=*/false);
   quantities.saliency = std::move(analysis.saliency);
   quantities.k1 = std::move(analysis.curvature.k1);
   quantities.k2 = std::move(analysis.curvature.k2);
@@ -256,7 +256,7 @@ inline long describeResult(const std::vector<Vec3> &input, const std::vector<Vec
 // What the drivers set up once per run: topology, which vertices may move (not frozen, selected
 // when only the selection is smoothed, not on the boundary when the boundary is fixed), and the
 // input's enclosed volume. The face rings and the noise estimate only for the measured methods
-// (the drivers that filter face normals).
+// (the drivers that filter face normals), the 2-rings only for the paper's patches.
 struct DriverSetup {
   Rings rings;
   EdgeStatistics stats;
@@ -271,10 +271,10 @@ struct DriverSetup {
 
 inline DriverSetup driverSetup(const MeshArrays &mesh, bool selected_only,
                                BoundaryMode boundary = BoundaryMode::NoInward,
-                               bool with_face_rings = true) {
+                               bool with_face_rings = true, bool with_two_rings = false) {
   DriverSetup s;
   const int n = int(mesh.points.size());
-  s.rings = computeRings(n, mesh.faces);
+  s.rings = computeRings(n, mesh.faces, with_two_rings);
   s.stats = edgeStatistics(mesh.points, s.rings);
   s.roles = vertexRoles(mesh, s.rings, s.stats.mean_edge_length);
   if (with_face_rings) s.face_rings = computeFaceRings(mesh.faces, s.rings);
@@ -327,7 +327,7 @@ inline std::vector<double> saliencyFaceAlpha(const std::vector<Vec3> &points,
                                              const std::vector<Face> &faces,
                                              const DriverSetup &setup, double saliency_scale) {
   SurfaceAnalysis analysis;
-  analyseSurface(points, faces, setup.rings, saliency_scale, analysis);
+  analyseSurface(points, faces, setup.rings, saliency_scale, analysis, /*with_directions=*/false);
   return faceAlphaFromSaliency(faces, setup.face_rings, analysis.saliency);
 }
 
@@ -346,10 +346,12 @@ inline void restoreInputVolume(std::vector<Vec3> &points, const DriverSetup &set
 
 // Runs `drive(ordered_mesh, out, quantities)` on the mesh in spatial order (spatial_order.h) and
 // puts the result back in the input's order; `out_points` and `quantities` are left as they were
-// when the driver leaves its own untouched (cancelled, declined).
+// when the driver leaves its own untouched (cancelled, declined). A mesh already put in spatial
+// order (the filter does that, MeshArrays::spatially_ordered) is used as it is, without a copy.
 template <class Drive>
 auto inSpatialOrder(const MeshArrays &mesh, std::vector<Vec3> &out_points,
                     VertexQuantities &quantities, Drive drive) {
+  if (mesh.spatially_ordered) return drive(mesh, out_points, quantities);
   const SpatialOrder order = spatialOrder(mesh);
   std::vector<Vec3> out;
   VertexQuantities q;

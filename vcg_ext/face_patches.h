@@ -17,16 +17,29 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 namespace vcg_ext {
 
 using HeightCoefficients = Eigen::Matrix<double, 9, 1>;
 
 struct FacePatch {
-  Vec3 origin = Vec3::Zero(), e1 = Vec3::UnitX(), e2 = Vec3::UnitY(), normal = Vec3::UnitZ();
+  Vec3 origin = Vec3::Zero(), normal = Vec3::UnitZ();
   double unit = 1;                                      // length of one local unit (mean edge)
   HeightCoefficients c = HeightCoefficients::Zero();    // zero: the plane (Sun's update)
   bool curved = false;                                  // c was fitted (else the plane)
+
+  // The patch's tangent frame (x along e1, y along e2): derived from the normal rather than
+  // stored (a patch per face on millions of faces). Any frame serves, the fit being rotation
+  // invariant; this one takes the axis least aligned with the normal.
+  static void tangentFrame(const Vec3 &n, Vec3 &e1, Vec3 &e2) {
+    const Vec3 axis = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : std::abs(n.y()) < 0.6 ? Vec3::UnitY()
+                                                                                     : Vec3::UnitZ();
+    e1 = (axis - n * n.dot(axis)).normalized();
+    e2 = n.cross(e1);
+  }
 
   // The height basis x^a y^b, index 3a + b, and its x and y derivatives.
   static HeightCoefficients basis(double x, double y) {
@@ -48,9 +61,18 @@ struct FacePatch {
 
   // Where the patch is, measured along the normal from `p`'s foot point: p moved onto the patch.
   Vec3 projectAlongNormal(const Vec3 &p) const {
+    return project(origin, normal, unit, c, curved, p);
+  }
+  static Vec3 project(const Vec3 &origin, const Vec3 &normal, double unit,
+                      const HeightCoefficients &c, bool curved, const Vec3 &p) {
     const Vec3 d = (p - origin) / unit;
     const double z = d.dot(normal);
-    const double height = curved ? basis(d.dot(e1), d.dot(e2)).dot(c) : 0.0;
+    double height = 0.0;
+    if (curved) {
+      Vec3 e1, e2;
+      tangentFrame(normal, e1, e2);
+      height = basis(d.dot(e1), d.dot(e2)).dot(c);
+    }
     return p + normal * ((height - z) * unit);
   }
 };
@@ -96,32 +118,41 @@ inline const Eigen::Matrix<double, 9, 9> &thinPlateMatrix() {
 // M += w a aᵀ on the lower triangle only (what LDLT<·, Lower> reads); column-major, so the inner
 // loop runs down a column.
 inline void addLowerOuter(Eigen::Matrix<double, 9, 9> &M, double w, const HeightCoefficients &a) {
+  double *m = M.data();
+  const double *v = a.data();
   for (int j = 0; j < 9; ++j) {
-    const double s = w * a[j];
-    for (int i = j; i < 9; ++i) M(i, j) += s * a[i];
+    const double s = w * v[j];
+    double *column = m + 9 * j;
+    int i = j;
+#ifdef __SSE2__
+    // Two rows at a time: the same product and sum per entry as the scalar loop.
+    const __m128d sv = _mm_set1_pd(s);
+    for (; i + 1 < 9; i += 2)
+      _mm_storeu_pd(column + i, _mm_add_pd(_mm_loadu_pd(column + i), _mm_mul_pd(sv, _mm_loadu_pd(v + i))));
+#endif
+    for (; i < 9; ++i) column[i] += s * v[i];
   }
 }
 
 } // namespace detail
 
-// Fits face f's patch. Returns false (leaving `out` the plane through f's centroid with its
-// filtered normal, i.e. Sun's update) when the face has no usable normal or the solve fails.
-inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vector<Face> &faces,
-                         const FaceRings &face_rings, const FaceGeometry &geometry,
-                         const std::vector<Vec3> &filtered, double mean_area, double mean_edge,
-                         const FacePatchParams &params, FacePatch &out) {
+namespace detail {
+
+// fitFacePatch with the face's centroid given and the faces' areas read through `area(g)`.
+template <class AreaOf>
+bool fitFacePatchAt(int f, const Vec3 &centroid, const std::vector<Vec3> &points,
+                    const std::vector<Face> &faces, const FaceRings &face_rings, AreaOf area,
+                    const std::vector<Vec3> &filtered, double mean_area, double mean_edge,
+                    const FacePatchParams &params, FacePatch &out) {
   const Vec3 &n = filtered[f];
-  out.origin = geometry.centroid[f];
+  out.origin = centroid;
   out.unit = mean_edge;
   out.c.setZero();
   out.curved = false;
   out.normal = n; // a zero normal makes the patch a no-op in the vertex update
   if (!(n.squaredNorm() > 0.5)) return false;
-  // Any tangent frame serves (the fit is rotation invariant); take the one least aligned with n.
-  const Vec3 axis = std::abs(n.x()) < 0.6 ? Vec3::UnitX() : std::abs(n.y()) < 0.6 ? Vec3::UnitY()
-                                                                                   : Vec3::UnitZ();
-  out.e1 = (axis - n * n.dot(axis)).normalized();
-  out.e2 = n.cross(out.e1);
+  Vec3 e1, e2;
+  FacePatch::tangentFrame(n, e1, e2);
 
   Eigen::Matrix<double, 9, 9> M = Eigen::Matrix<double, 9, 9>::Zero();
   HeightCoefficients rhs = HeightCoefficients::Zero();
@@ -129,8 +160,7 @@ inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vect
   double total = 0;
   for (const int *g = face_rings.begin(f); g != face_rings.end(f); ++g) {
     const Vec3 &m = filtered[*g];
-    const double w =
-        geometry.area[*g] / mean_area * rangeKernel(range * (n - m).squaredNorm());
+    const double w = area(*g) / mean_area * rangeKernel(range * (n - m).squaredNorm());
     if (!(w > 1e-12)) continue;
     // Face g's data are its centroid height and its normal, i.e. its plane. The patch is asked to
     // reproduce that plane where it interpolates g's corners (the mean of the patch at the corners,
@@ -140,7 +170,7 @@ inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vect
     HeightCoefficients corner[3];
     for (int k = 0; k < 3; ++k) {
       const Vec3 d = (points[faces[*g][k]] - out.origin) / mean_edge;
-      x[k] = d.dot(out.e1), y[k] = d.dot(out.e2), z[k] = d.dot(n);
+      x[k] = d.dot(e1), y[k] = d.dot(e2), z[k] = d.dot(n);
       corner[k] = FacePatch::basis(x[k], y[k]);
     }
     const HeightCoefficients b = (corner[0] + corner[1] + corner[2]) / 3.0;
@@ -150,7 +180,7 @@ inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vect
     const double along = m.dot(n);
     const double ax = x[1] - x[0], ay = y[1] - y[0], bx = x[2] - x[0], by = y[2] - y[0];
     const double det = ax * by - ay * bx; // twice the projected area, in edge² units
-    const double true_area = 2.0 * geometry.area[*g] / (mean_edge * mean_edge);
+    const double true_area = 2.0 * area(*g) / (mean_edge * mean_edge);
     // Slopes only where g's projection is a fair, unfolded triangle and m is not steep.
     if (along > 0.5 && params.slope_weight > 0 && det > 0.3 * true_area) {
       // The interpolant's gradient: J g = (h1 − h0, h2 − h0), J = [ax ay; bx by].
@@ -160,7 +190,7 @@ inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vect
       const double ws = w * params.slope_weight;
       detail::addLowerOuter(M, ws, gx);
       detail::addLowerOuter(M, ws, gy);
-      rhs.noalias() += ws * (-m.dot(out.e1) / along) * gx + ws * (-m.dot(out.e2) / along) * gy;
+      rhs.noalias() += ws * (-m.dot(e1) / along) * gx + ws * (-m.dot(e2) / along) * gy;
     }
   }
   if (!(total > 0)) return false;
@@ -180,24 +210,86 @@ inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vect
   return true;
 }
 
+// A face's centroid, as computeFaceGeometry computes it.
+inline Vec3 faceCentroid(const std::vector<Vec3> &points, const Face &t) {
+  return (points[t[0]] + points[t[1]] + points[t[2]]) / 3.0;
+}
+
+} // namespace detail
+
+// Fits face f's patch. Returns false (leaving `out` the plane through f's centroid with its
+// filtered normal, i.e. Sun's update) when the face has no usable normal or the solve fails.
+inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                         const FaceRings &face_rings, const FaceGeometry &geometry,
+                         const std::vector<Vec3> &filtered, double mean_area, double mean_edge,
+                         const FacePatchParams &params, FacePatch &out) {
+  return detail::fitFacePatchAt(
+      f, geometry.centroid[f], points, faces, face_rings,
+      [&](int g) { return geometry.area[g]; }, filtered, mean_area, mean_edge, params, out);
+}
+
+// Every face's patch, compactly: per face the height coefficients in single precision and whether
+// they were fitted (37 bytes instead of a FacePatch's 136; a coefficient's rounding moves a vertex
+// by ~1e-7 mean edge lengths). The rest of a FacePatch is read back from the arrays the fit was
+// given (origin: the face's centroid; normal: the normal it was fitted with), which must stay as
+// they were while the patches are used.
+struct FacePatches {
+  std::vector<Eigen::Matrix<float, 9, 1>> c;
+  std::vector<std::uint8_t> curved;
+  const std::vector<Vec3> *points = nullptr, *normals = nullptr;
+  const std::vector<Face> *faces = nullptr;
+  double unit = 1;
+
+  size_t size() const { return c.size(); }
+  FacePatch patch(int f) const {
+    FacePatch p;
+    p.origin = detail::faceCentroid(*points, (*faces)[f]);
+    p.normal = (*normals)[f];
+    p.unit = unit;
+    p.c = c[f].cast<double>();
+    p.curved = curved[f] != 0;
+    return p;
+  }
+  Vec3 projectAlongNormal(int f, const Vec3 &p) const {
+    return FacePatch::project(detail::faceCentroid(*points, (*faces)[f]), (*normals)[f], unit,
+                              c[f].cast<double>(), curved[f] != 0, p);
+  }
+};
+
 // Fits every face's patch from `normals` (filtered or the faces' own); `face_alpha`, when not
 // empty, replaces params.alpha per face. Returns how many fits fell back to the face's plane.
+// The faces' areas and centroids are computed here as computeFaceGeometry does (same values).
 inline long fitFacePatches(const std::vector<Vec3> &points, const std::vector<Face> &faces,
-                           const FaceRings &face_rings, const FaceGeometry &geometry,
-                           const std::vector<Vec3> &normals, double mean_edge,
-                           const FacePatchParams &params, const std::vector<double> &face_alpha,
-                           std::vector<FacePatch> &patches) {
+                           const FaceRings &face_rings, const std::vector<Vec3> &normals,
+                           double mean_edge, const FacePatchParams &params,
+                           const std::vector<double> &face_alpha, FacePatches &patches) {
   const int face_count = int(faces.size());
-  patches.resize(face_count);
+  patches.c.resize(face_count);
+  patches.curved.resize(face_count);
+  patches.points = &points;
+  patches.normals = &normals;
+  patches.faces = &faces;
+  patches.unit = mean_edge;
+  std::vector<double> area(face_count);
+#pragma omp parallel for schedule(static) if (face_count >= min_parallel_vertices)
+  for (int f = 0; f < face_count; ++f) {
+    double len;
+    detail::unitFaceNormal(points[faces[f][0]], points[faces[f][1]], points[faces[f][2]], len);
+    area[f] = 0.5 * len;
+  }
   double mean_area = 0;
-  for (double a : geometry.area) mean_area += a / face_count;
+  for (double a : area) mean_area += a / face_count;
   long fallbacks = 0;
 #pragma omp parallel for schedule(static) reduction(+ : fallbacks) if (face_count >= min_parallel_vertices)
   for (int f = 0; f < face_count; ++f) {
     FacePatchParams own = params;
     if (!face_alpha.empty()) own.alpha = face_alpha[f];
-    fallbacks += !fitFacePatch(f, points, faces, face_rings, geometry, normals, mean_area,
-                               mean_edge, own, patches[f]);
+    FacePatch fitted;
+    fallbacks += !detail::fitFacePatchAt(f, detail::faceCentroid(points, faces[f]), points, faces,
+                                         face_rings, [&](int g) { return area[g]; }, normals,
+                                         mean_area, mean_edge, own, fitted);
+    patches.c[f] = fitted.c.cast<float>();
+    patches.curved[f] = fitted.curved;
   }
   return fallbacks;
 }
@@ -219,14 +311,23 @@ inline std::vector<double> faceAlphaFromSaliency(const std::vector<Face> &faces,
   return alpha;
 }
 
+namespace detail {
+inline Vec3 projectOnto(const std::vector<FacePatch> &patches, int f, const Vec3 &p) {
+  return patches[f].projectAlongNormal(p);
+}
+inline Vec3 projectOnto(const FacePatches &patches, int f, const Vec3 &p) {
+  return patches.projectAlongNormal(f, p);
+}
+} // namespace detail
+
 // Sun et al.'s vertex update with patches: the mean, over the vertex's faces, of the vertex moved
-// along each face's normal onto that face's patch.
-inline Vec3 moveOntoFacePatches(int v, const Vec3 &p, const Rings &rings,
-                                const std::vector<FacePatch> &patches) {
+// along each face's normal onto that face's patch (FacePatches or a vector of FacePatch).
+template <class Patches>
+Vec3 moveOntoFacePatches(int v, const Vec3 &p, const Rings &rings, const Patches &patches) {
   Vec3 sum = Vec3::Zero();
   int count = 0;
   for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) {
-    sum += patches[*f].projectAlongNormal(p) - p;
+    sum += detail::projectOnto(patches, *f, p) - p;
     ++count;
   }
   return count ? Vec3(p + sum / count) : p;

@@ -120,10 +120,24 @@ inline Eigen::Matrix3d featureTangentProjector(int v, const Rings &rings,
   return P;
 }
 
+// A symmetric 3×3 matrix (the tangent projectors) in its six distinct entries, single precision:
+// 24 instead of 72 bytes per vertex (the rounding changes a relaxation step by ~1e-7 of itself).
+using SymmetricMatrix3 = std::array<float, 6>;
+inline SymmetricMatrix3 packSymmetric(const Eigen::Matrix3d &P) {
+  return {float(P(0, 0)), float(P(1, 0)), float(P(2, 0)), float(P(1, 1)), float(P(2, 1)),
+          float(P(2, 2))};
+}
+inline Eigen::Matrix3d unpackSymmetric(const SymmetricMatrix3 &s) {
+  Eigen::Matrix3d P;
+  P << s[0], s[1], s[2], s[1], s[3], s[4], s[2], s[4], s[5];
+  return P;
+}
+
 } // namespace detail
 
 // `given_setup` (optional): the topology and roles of `mesh` with the same selected_only, when the
-// caller has them already (the automatic mode shares them between both drivers).
+// caller has them already (the automatic mode shares them between both drivers). A driver that
+// finishes releases the set-up's face rings (the result quantities do not need them).
 // `first_pass_check` (optional) sees the first pass's face normals after the first guidance period of the normal filter (4
 // iterations), before any vertex moves; false stops the driver (report.declined, out_points
 // untouched). The automatic mode decides with it (auto_smooth.h)
@@ -140,7 +154,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
                                                 VertexQuantities &quantities,
                                                 const ProgressFn &progress = nullptr,
                                                 const FilteredNormalsCheck &first_pass_check = nullptr,
-                                                const DriverSetup *given_setup = nullptr) {
+                                                DriverSetup *given_setup = nullptr) {
   using clock = std::chrono::steady_clock;
   auto seconds = [](clock::time_point a) {
     return std::chrono::duration<double>(clock::now() - a).count();
@@ -152,7 +166,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   std::optional<detail::DriverSetup> own_setup;
   if (!given_setup)
     own_setup.emplace(detail::driverSetup(mesh, params.selected_only, params.boundary));
-  const detail::DriverSetup &setup = given_setup ? *given_setup : *own_setup;
+  detail::DriverSetup &setup = given_setup ? *given_setup : *own_setup;
   const Rings &rings = setup.rings;
   const EdgeStatistics &stats = setup.stats;
   const detail::VertexRoles &roles = setup.roles;
@@ -190,6 +204,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   // first: light noise and real scans' noise (spread 14-26°) are smoothed, coarse clean meshes
   // (23-31°) are not.
   report.dihedral_spread_deg = medianDihedralSpreadDeg(current, mesh.faces, geometry, face_rings);
+  geometry = FaceGeometry(); // (the spread's only)
   report.noise = setup.noise;
   report.roughness = detail::measuredRoughness(setup.noise, report.dihedral_spread_deg,
                                                params.clean_spread_deg, params.noisy_spread_deg,
@@ -205,13 +220,20 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   report.seconds_prepass = seconds(t);
   if (!report_progress(0, 0.05, "Taubin pre-pass")) return report.cancelled = true, report;
 
-  std::vector<Vec3> filtered, next(current), vertex_normals;
-  std::vector<FacePatch> patches(params.patch_iterations > 0 ? face_count : 0);
-  std::vector<Eigen::Matrix3d> tangent_projector(params.tangential > 0 ? n : 0);
-  std::vector<std::uint8_t> relax(n, 1), relax_next(n, 1);
+  // Buffers live only while their stage runs, so that the normal filter's peak (its weights) and
+  // the patch fits' do not add up with each other's.
+  std::vector<Vec3> filtered, next, vertex_normals, centroid;
+  FacePatches patches;
+  std::vector<detail::SymmetricMatrix3> tangent_projector;
+  std::vector<std::uint8_t> relax(n, 1), relax_next(n, 1), folded;
   for (int pass = 0; pass < outer && edge > 0; ++pass) {
     t = clock::now();
-    computeFaceGeometry(current, mesh.faces, geometry);
+    std::vector<detail::SymmetricMatrix3>().swap(tangent_projector);
+    std::vector<Vec3>().swap(next);
+    std::vector<Vec3>().swap(centroid);
+    std::vector<Vec3>().swap(vertex_normals);
+    // The filter starts from the face normals and works in place.
+    computeFaceNormals(current, mesh.faces, filtered);
     // The first-pass check sees the normals after the first guidance period; the filter then
     // goes on from there (guidance is recomputed every `guidance_every` iterations from the
     // current normals and the spatial weights depend on the unchanged geometry, so the split
@@ -224,7 +246,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
     if (check_iterations > 0) {
       NormalFilterParams first = normal_filter;
       first.iterations = check_iterations;
-      filterNormals(mesh.faces, face_rings, geometry, first, edge, filtered);
+      filterNormalsInPlace(current, mesh.faces, face_rings, first, edge, filtered);
       if (first_pass_check && !first_pass_check(filtered, setup)) {
         report.seconds_normals += seconds(t);
         return report.declined = true, report;
@@ -242,47 +264,60 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
       }
       NormalFilterParams rest = normal_filter;
       rest.iterations = normal_filter.iterations - check_iterations;
-      FaceGeometry partly_filtered = geometry;
-      partly_filtered.normal = filtered;
-      filterNormals(mesh.faces, face_rings, partly_filtered, rest, edge, filtered);
+      filterNormalsInPlace(current, mesh.faces, face_rings, rest, edge, filtered);
     } else {
-      filterNormals(mesh.faces, face_rings, geometry, normal_filter, edge, filtered);
+      filterNormalsInPlace(current, mesh.faces, face_rings, normal_filter, edge, filtered);
     }
+    next.resize(n);
     if (params.tangential > 0) {
+      tangent_projector.resize(n);
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
       for (int v = 0; v < n; ++v)
-        tangent_projector[v] = rings.boundary[v] || fixed[v]
-                                   ? Eigen::Matrix3d::Zero()
-                                   : detail::featureTangentProjector(v, rings, filtered);
+        tangent_projector[v] = detail::packSymmetric(
+            rings.boundary[v] || fixed[v] ? Eigen::Matrix3d::Zero()
+                                          : detail::featureTangentProjector(v, rings, filtered));
     }
+    // After the last filtering nothing reads the faces' edge neighbours.
+    if (pass == outer - 1)
+      std::vector<std::array<int, 3>>().swap(setup.face_rings.edge_neighbours);
     report.seconds_normals += seconds(t);
     if (!report_progress(pass, 0.4, "Filtering normals")) return report.cancelled = true, report;
 
     t = clock::now();
     for (int it = 0; it < vertex_iterations; ++it) {
-      computeFaceGeometry(current, mesh.faces, geometry);
       // Patches refine the last pass only: measured, earlier passes gain little from them for
       // their cost (a fit per face is most of a pass's time).
       const bool use_patches = pass == outer - 1 && it >= vertex_iterations - params.patch_iterations;
       long fallbacks = 0, rejected = 0;
+      if (!use_patches) computeFaceCentroids(current, mesh.faces, centroid);
       if (use_patches) {
+        std::vector<Vec3>().swap(centroid);
         const std::vector<double> face_alpha =
             params.alpha_override ? std::vector<double>()
                                   : detail::saliencyFaceAlpha(current, mesh.faces, setup,
                                                               params.saliency_scale * stats.bbox_diagonal);
-        fallbacks = fitFacePatches(current, mesh.faces, face_rings, geometry, filtered, edge,
-                                   params.patches, face_alpha, patches);
+        fallbacks = fitFacePatches(current, mesh.faces, face_rings, filtered, edge, params.patches,
+                                   face_alpha, patches);
       }
       // Boundary moves keep off the inward direction, which needs the surface normal there.
-      if (report.boundary_vertices) computeVertexNormals(current, mesh.faces, rings, vertex_normals);
+      if (report.boundary_vertices)
+        computeBoundaryVertexNormals(current, mesh.faces, rings, vertex_normals);
       // Folds: faces whose normal is far from their filtered normal; the relaxation works around
       // them only, so a clean or unfolded mesh keeps its triangulation.
       if (params.tangential > 0 && params.relax_rings >= 0) {
+        folded.resize(face_count);
+#pragma omp parallel for schedule(static) if (face_count >= min_parallel_vertices)
+        for (int f = 0; f < face_count; ++f) {
+          const Face &t = mesh.faces[f];
+          double len;
+          folded[f] = detail::unitFaceNormal(current[t[0]], current[t[1]], current[t[2]], len)
+                          .dot(filtered[f]) < params.fold_cos;
+        }
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
         for (int v = 0; v < n; ++v) {
           std::uint8_t near = 0;
           for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v) && !near; ++f)
-            near = geometry.normal[*f].dot(filtered[*f]) < params.fold_cos;
+            near = folded[*f];
           relax[v] = near;
         }
         for (int ring = 0; ring < params.relax_rings; ++ring) {
@@ -301,14 +336,16 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
         next[v] = current[v];
         if (fixed[v] || rings.ring1Size(v) == 0) continue;
         Vec3 moved = use_patches ? moveOntoFacePatches(v, current[v], rings, patches)
-                                 : moveOntoFacePlanes(v, current[v], rings, geometry.centroid,
-                                                      filtered, edge);
+                                 : moveOntoFacePlanes(v, current[v], rings, centroid, filtered,
+                                                      edge);
         if (params.tangential > 0 && relax[v]) {
           Vec3 centre = Vec3::Zero();
           for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) centre += current[*w];
           const Vec3 step = centre / rings.ring1Size(v) - current[v];
           // On the boundary, the rule below keeps what may stay of the step.
-          moved += params.tangential * (rings.boundary[v] ? step : Vec3(tangent_projector[v] * step));
+          moved += params.tangential *
+                   (rings.boundary[v] ? step
+                                      : Vec3(detail::unpackSymmetric(tangent_projector[v]) * step));
         }
         if (rings.boundary[v])
           moved = detail::constrainBoundaryMove(v, moved, current, vertex_normals, roles,
@@ -329,6 +366,15 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   if (params.preserve_volume && report.closed && vertex_iterations > 0 && edge > 0)
     detail::restoreInputVolume(current, setup, mesh.faces, vertex_normals);
 
+  // Only the result and the rings are read from here on: the result quantities' peak (saliency)
+  // should not stack on the iterations' buffers.
+  std::vector<Vec3>().swap(filtered);
+  std::vector<Vec3>().swap(next);
+  std::vector<Vec3>().swap(vertex_normals);
+  std::vector<Vec3>().swap(centroid);
+  patches = FacePatches();
+  std::vector<detail::SymmetricMatrix3>().swap(tangent_projector);
+  setup.face_rings = FaceRings();
   t = clock::now();
   report.vertices_moved = detail::describeResult(mesh.points, current, mesh.faces, rings,
                                                  params.saliency_scale * stats.bbox_diagonal,

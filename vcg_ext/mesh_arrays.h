@@ -21,6 +21,9 @@ struct MeshArrays {
   std::vector<int> compact_index; // mesh vertex slot -> compact index, -1 where deleted
   std::vector<int> mesh_slot;     // compact index -> mesh vertex slot
   std::vector<std::uint8_t> selected; // per compact vertex: the mesh's selection flag
+  // Set by putInSpatialOrder (spatial_order.h): the compact order is already the one the drivers
+  // run in, so they use these arrays as they are instead of an ordered copy.
+  bool spatially_ordered = false;
 };
 
 // Copies the live vertices and faces of `mesh` (any vcglib triangle mesh) into plain arrays.

@@ -28,6 +28,9 @@ struct MethodRow {
   const char *summary;  // what it is for, one sentence
   std::vector<const char *> reads; // the filter parameters it acts on, besides the common ones
   MethodDriver run;
+  // The driver runs on the mesh in spatial order (spatial_order.h), the same to the bit whatever
+  // the input's order: the filter may hand it the arrays already ordered, which saves a copy.
+  bool runs_in_spatial_order = false;
 };
 
 inline const std::array<MethodRow, 6> &methodTable() {
@@ -60,17 +63,17 @@ inline const std::array<MethodRow, 6> &methodTable() {
        "Guided normal filtering and face patches: keeps sharp edges and corners (CAD parts, "
        "machined and architectural scans).",
        {"iterations", "alpha_override", "alpha", "boundary"},
-       featureMethod},
+       featureMethod, true},
       {"Organic scan", "organic",
        "Taubin's frequency bands, each kept in proportion to its measured shape-to-noise energy: "
        "organic shapes with noise in all directions.",
        {"iterations", "alpha_override", "alpha", "boundary"},
-       organicMethod},
+       organicMethod, true},
       {"Automatic", "automatic",
        "Measures whether the mesh has sharp features and runs the feature-preserving or the "
        "organic method.",
        {"iterations", "alpha_override", "alpha", "boundary"},
-       automaticMethod},
+       automaticMethod, true},
   }};
   return table;
 }

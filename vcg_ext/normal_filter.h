@@ -16,6 +16,9 @@
 #include "rings.h"
 
 #include <Eigen/Geometry>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -37,6 +40,16 @@ struct FaceGeometry {
   std::vector<Vec3> centroid;
 };
 
+namespace detail {
+// A face's unit normal (zero when degenerate) and the length of its cross product (twice its area).
+inline Vec3 unitFaceNormal(const Vec3 &a, const Vec3 &b, const Vec3 &c, double &cross_length) {
+  const Vec3 cross = (b - a).cross(c - a);
+  cross_length = cross.norm();
+  return cross_length > 0 && std::isfinite(cross_length) ? Vec3(cross / cross_length)
+                                                         : Vec3::Zero();
+}
+} // namespace detail
+
 inline void computeFaceGeometry(const std::vector<Vec3> &points, const std::vector<Face> &faces,
                                 FaceGeometry &out) {
   const int m = int(faces.size());
@@ -46,11 +59,33 @@ inline void computeFaceGeometry(const std::vector<Vec3> &points, const std::vect
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
   for (int f = 0; f < m; ++f) {
     const Vec3 &a = points[faces[f][0]], &b = points[faces[f][1]], &c = points[faces[f][2]];
-    const Vec3 cross = (b - a).cross(c - a);
-    const double len = cross.norm();
+    double len;
+    out.normal[f] = detail::unitFaceNormal(a, b, c, len);
     out.area[f] = 0.5 * len;
-    out.normal[f] = len > 0 && std::isfinite(len) ? Vec3(cross / len) : Vec3::Zero();
     out.centroid[f] = (a + b + c) / 3.0;
+  }
+}
+
+// The face centroids alone (computeFaceGeometry's).
+inline void computeFaceCentroids(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                 std::vector<Vec3> &centroid) {
+  const int m = int(faces.size());
+  centroid.resize(m);
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
+  for (int f = 0; f < m; ++f)
+    centroid[f] = (points[faces[f][0]] + points[faces[f][1]] + points[faces[f][2]]) / 3.0;
+}
+
+// The unit face normals alone (computeFaceGeometry's, without areas and centroids).
+inline void computeFaceNormals(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                               std::vector<Vec3> &normals) {
+  const int m = int(faces.size());
+  normals.resize(m);
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
+  for (int f = 0; f < m; ++f) {
+    double len;
+    normals[f] = detail::unitFaceNormal(points[faces[f][0]], points[faces[f][1]],
+                                        points[faces[f][2]], len);
   }
 }
 
@@ -68,17 +103,14 @@ struct FaceRings {
 inline FaceRings computeFaceRings(const std::vector<Face> &faces, const Rings &rings) {
   FaceRings r;
   const int m = int(faces.size());
-  r.offsets.assign(m + 1, 0);
   r.edge_neighbours.assign(m, {-1, -1, -1});
-  std::vector<int> scratch;
-  for (int f = 0; f < m; ++f) {
-    scratch.clear();
+  // In parallel blocks, each list exactly sized (rings.h's buildCsrInBlocks).
+  detail::buildCsrInBlocks(m, r.offsets, r.faces, [&](int f, std::vector<int> &out) {
+    const size_t first = out.size();
     for (int k = 0; k < 3; ++k)
-      scratch.insert(scratch.end(), rings.facesBegin(faces[f][k]), rings.facesEnd(faces[f][k]));
-    std::sort(scratch.begin(), scratch.end());
-    scratch.erase(std::unique(scratch.begin(), scratch.end()), scratch.end());
-    r.faces.insert(r.faces.end(), scratch.begin(), scratch.end());
-    r.offsets[f + 1] = int(r.faces.size());
+      out.insert(out.end(), rings.facesBegin(faces[f][k]), rings.facesEnd(faces[f][k]));
+    std::sort(out.begin() + first, out.end());
+    out.erase(std::unique(out.begin() + first, out.end()), out.end());
     for (int k = 0; k < 3; ++k) {
       const int a = faces[f][k], b = faces[f][(k + 1) % 3];
       for (const int *g = rings.facesBegin(a); g != rings.facesEnd(a); ++g) {
@@ -89,7 +121,7 @@ inline FaceRings computeFaceRings(const std::vector<Face> &faces, const Rings &r
         }
       }
     }
-  }
+  });
   return r;
 }
 
@@ -172,83 +204,152 @@ struct NormalFilterParams {
 
 namespace detail {
 
+using Normal3f = Eigen::Vector3f;
+
+// The largest squared distance between two of `count` unit vectors given as coordinate arrays
+// padded to a multiple of 4 (the padding repeats a real vector, so it adds no new distance).
+// Each i is compared with the j from (i + 1) rounded down to a multiple of 4: the j <= i among
+// them are pairs seen from the other side or i itself (distance 0), so the maximum is the same as
+// over the pairs i < j, and it is exact whatever the order (no rounding in a maximum).
+inline float largestSquaredDistance(const float *xs, const float *ys, const float *zs, int count,
+                                    int padded) {
+  float largest2 = 0;
+#ifdef __SSE2__
+  __m128 best = _mm_setzero_ps();
+  for (int i = 0; i + 1 < count; ++i) {
+    const __m128 xi = _mm_set1_ps(xs[i]), yi = _mm_set1_ps(ys[i]), zi = _mm_set1_ps(zs[i]);
+    for (int j = (i + 1) & ~3; j < padded; j += 4) {
+      const __m128 dx = _mm_sub_ps(xi, _mm_load_ps(xs + j)), dy = _mm_sub_ps(yi, _mm_load_ps(ys + j)),
+                   dz = _mm_sub_ps(zi, _mm_load_ps(zs + j));
+      const __m128 d2 =
+          _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
+      best = _mm_max_ps(best, d2);
+    }
+  }
+  alignas(16) float lanes[4];
+  _mm_store_ps(lanes, best);
+  for (float l : lanes) largest2 = l > largest2 ? l : largest2;
+#else
+  for (int i = 0; i + 1 < count; ++i)
+    for (int j = (i + 1) & ~3; j < padded; ++j) {
+      const float dx = xs[i] - xs[j], dy = ys[i] - ys[j], dz = zs[i] - zs[j];
+      const float d2 = (dx * dx + dy * dy) + dz * dz;
+      largest2 = d2 > largest2 ? d2 : largest2;
+    }
+#endif
+  return largest2;
+}
+
+// Where `value` is in `values` (length a multiple of 4, 16-byte aligned), or −1: four compares at a
+// time without branches on the data (a binary search's branches mispredicted on most steps).
+inline int indexIn(const int *values, int length, int value) {
+#ifdef __SSE2__
+  const __m128i wanted = _mm_set1_epi32(value);
+  for (int k = 0; k < length; k += 4) {
+    const int mask = _mm_movemask_ps(_mm_castsi128_ps(
+        _mm_cmpeq_epi32(_mm_load_si128(reinterpret_cast<const __m128i *>(values + k)), wanted)));
+    if (mask) return k + __builtin_ctz(unsigned(mask));
+  }
+  return -1;
+#else
+  for (int k = 0; k < length; ++k)
+    if (values[k] == value) return k;
+  return -1;
+#endif
+}
+
 // GNF's patch consistency H = D·R of the vertex ring of `f` (smaller: more consistent): D the
 // largest normal difference in the patch, R the largest normal jump across one of its inner edges
 // over the sum of those jumps. Also the patch's area-weighted mean normal, the guidance it offers.
-inline void patchConsistency(int f, const FaceRings &face_rings, const std::vector<Vec3> &normals,
-                             const std::vector<double> &area, double &consistency,
-                             Vec3 &mean_normal) {
-  // The patch's normals are gathered first (the pair loop reads each a dozen times), and the
-  // maxima are taken without branches (mispredicted ones took a fifth of the time).
+// On the filter's single-precision normals; the mean is summed in double.
+inline void patchConsistency(int f, const FaceRings &face_rings, const std::vector<Normal3f> &normals,
+                             const std::vector<float> &area, float &consistency,
+                             Normal3f &mean_normal) {
+  // The patch's normals are gathered first (the pair loop reads each a dozen times), as
+  // coordinate arrays for the four-wide pair loop.
   constexpr int kOnStack = 32;
   const int *ring = face_rings.begin(f);
   const int size = face_rings.size(f);
-  std::array<Vec3, kOnStack> on_stack;
-  std::vector<Vec3> on_heap(size > kOnStack ? size : 0);
-  Vec3 *local = size > kOnStack ? on_heap.data() : on_stack.data();
-  double largest2 = 0, largest_jump = 0, jump_sum = 0;
+  const int padded = (size + 3) & ~3;
+  alignas(16) float on_stack[3][kOnStack];
+  alignas(16) int ring_on_stack[kOnStack];
+  std::vector<float> on_heap(padded > kOnStack ? 3 * size_t(padded) + 4 : 0);
+  std::vector<int> ring_on_heap(padded > kOnStack ? size_t(padded) + 4 : 0);
+  float *xs = on_stack[0], *ys = on_stack[1], *zs = on_stack[2];
+  int *members = ring_on_stack;
+  if (padded > kOnStack) {
+    // 16-byte aligned inside the heap blocks.
+    float *base = on_heap.data();
+    while (reinterpret_cast<std::uintptr_t>(base) % 16 != 0) ++base;
+    xs = base, ys = base + padded, zs = base + 2 * padded;
+    members = ring_on_heap.data();
+    while (reinterpret_cast<std::uintptr_t>(members) % 16 != 0) ++members;
+  }
+  for (int i = 0; i < size; ++i) members[i] = ring[i];
+  for (int i = size; i < padded; ++i) members[i] = -1;
   Vec3 sum = Vec3::Zero();
   for (int i = 0; i < size; ++i) {
-    local[i] = normals[ring[i]];
-    sum += area[ring[i]] * local[i];
+    const Normal3f &n = normals[ring[i]];
+    xs[i] = n.x(), ys[i] = n.y(), zs[i] = n.z();
+    sum += double(area[ring[i]]) * n.cast<double>();
   }
+  for (int i = size; i < padded; ++i) xs[i] = xs[size - 1], ys[i] = ys[size - 1], zs[i] = zs[size - 1];
+  const float largest2 = largestSquaredDistance(xs, ys, zs, size, padded);
+  float largest_jump = 0, jump_sum = 0;
   for (int i = 0; i < size; ++i) {
-    for (int j = i + 1; j < size; ++j) {
-      const double d2 = (local[i] - local[j]).squaredNorm();
-      largest2 = d2 > largest2 ? d2 : largest2;
-    }
     // Inner edges, each once (from its lower face index); the ring is sorted.
     for (int b : face_rings.edge_neighbours[ring[i]]) {
       if (b <= ring[i]) continue;
-      const int *at = std::lower_bound(ring + i + 1, ring + size, b);
-      if (at == ring + size || *at != b) continue;
-      const double d = (local[i] - local[at - ring]).norm();
+      const int j = detail::indexIn(members, padded, b);
+      if (j < 0) continue;
+      const float dx = xs[i] - xs[j], dy = ys[i] - ys[j], dz = zs[i] - zs[j];
+      const float d = std::sqrt((dx * dx + dy * dy) + dz * dz);
       largest_jump = d > largest_jump ? d : largest_jump;
       jump_sum += d;
     }
   }
-  consistency = std::sqrt(largest2) * largest_jump / (1e-9 + jump_sum);
+  consistency = std::sqrt(largest2) * largest_jump / (1e-9f + jump_sum);
   const double len = sum.norm();
-  mean_normal = len > 0 ? Vec3(sum / len) : normals[f];
+  mean_normal = len > 0 ? Normal3f((sum / len).cast<float>()) : normals[f];
 }
 
 } // namespace detail
 
-// Filters `geometry.normal` into `out` (unit normals, one per face).
-inline void filterNormals(const std::vector<Face> &faces, const FaceRings &face_rings,
-                          const FaceGeometry &geometry, const NormalFilterParams &params,
-                          double mean_edge, std::vector<Vec3> &out) {
-  const int m = int(faces.size());
-  out = geometry.normal;
-  std::vector<Vec3> next(m), guidance(m);
-  std::vector<double> consistency(m);
-  std::vector<Vec3> patch_normal(m);
-  // The centroids do not move while the normals are filtered: the spatial part of each weight
-  // (with the area) is computed once, in the order of face_rings.faces.
-  std::vector<double> spatial_weight(face_rings.faces.size());
+namespace detail {
+
+// The normal filter on `normals` in place (see filterNormalsInPlace): `area` per face, and
+// `centroid_of(f)` the centroid of face f.
+template <class CentroidOf>
+void filterNormalsCore(const FaceRings &face_rings, const std::vector<float> &area,
+                       CentroidOf centroid_of, const NormalFilterParams &params, double mean_edge,
+                       std::vector<Vec3> &normals) {
+  const int m = int(normals.size());
+  if (params.iterations <= 0 || m == 0) return;
+  const bool guided = params.kind == NormalFilterKind::Guided;
+  std::vector<Normal3f> out(m), next, guidance;
+  std::vector<float> consistency, weight;
+  for (int f = 0; f < m; ++f) out[f] = normals[f].cast<float>();
+  std::vector<Vec3>().swap(normals);
   const double spatial = -0.5 / std::pow(params.sigma_s * mean_edge, 2);
   const double range = -0.5 / (params.sigma_r * params.sigma_r);
-#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
-  for (int f = 0; f < m; ++f)
-    for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k) {
-      const int g = face_rings.faces[k];
-      const double ds = (geometry.centroid[f] - geometry.centroid[g]).squaredNorm();
-      const double area = params.area_power == 0.0   ? 1.0
-                          : params.area_power == 1.0 ? geometry.area[g]
-                                                     : std::pow(geometry.area[g], params.area_power);
-      spatial_weight[k] = area * std::exp(spatial * ds);
-    }
-  std::vector<double> weight(params.iterations > 0 ? face_rings.faces.size() : 0);
   for (int it = 0; it < params.iterations; ++it) {
-    const bool guidance_changed =
-        params.kind == NormalFilterKind::Guided && it % std::max(1, params.guidance_every) == 0;
+    const bool guidance_changed = guided && it % std::max(1, params.guidance_every) == 0;
     if (guidance_changed) {
+      // The previous period's weights are not needed any more. Only what a step needs is held:
+      // the patches' mean normals (in `next`) and consistencies until the guidance is chosen,
+      // the guidance until the weights are made.
+      std::vector<float>().swap(weight);
+      consistency.resize(m);
+      next.resize(m);
+      std::vector<Normal3f> &patch_normal = next;
+      AllocationGuard guard; // (a patch of more than 32 faces takes its arrays from the heap)
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
       for (int f = 0; f < m; ++f)
-        detail::patchConsistency(f, face_rings, out, geometry.area, consistency[f],
-                                 patch_normal[f]);
+        guard.run([&] { patchConsistency(f, face_rings, out, area, consistency[f], patch_normal[f]); });
+      guard.rethrow();
       // Each face takes the mean normal of the most consistent patch that contains it; the
       // lowest face index breaks ties so the choice does not depend on the order of the scan.
+      guidance.resize(m);
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
       for (int f = 0; f < m; ++f) {
         int best = f;
@@ -258,30 +359,88 @@ inline void filterNormals(const std::vector<Face> &faces, const FaceRings &face_
             best = *g;
         guidance[f] = patch_normal[best];
       }
+      std::vector<float>().swap(consistency);
+      std::vector<Normal3f>().swap(next);
     }
     // The weights change with the kernel normals only: the guided filter's guidance stays for
-    // `guidance_every` iterations, and so do its weights (computed once per guidance period, the
-    // same products as in the sum, so the normals are the same to the bit).
-    if (params.kind == NormalFilterKind::Bilateral || guidance_changed) {
-      const std::vector<Vec3> &kernel_normals =
-          params.kind == NormalFilterKind::Guided ? guidance : out;
+    // `guidance_every` iterations, and so do its weights (computed once per guidance period). The
+    // spatial part (the centroids do not move) is recomputed with them rather than kept: one more
+    // exp per entry and period, against another array per face-ring entry held all along.
+    if (!guided || guidance_changed) {
+      const std::vector<Normal3f> &kernel_normals = guided ? guidance : out;
+      weight.resize(face_rings.faces.size());
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
-      for (int f = 0; f < m; ++f)
+      for (int f = 0; f < m; ++f) {
+        const Vec3 own = kernel_normals[f].cast<double>(), own_centroid = centroid_of(f);
         for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k) {
-          const double dr = (kernel_normals[f] - kernel_normals[face_rings.faces[k]]).squaredNorm();
-          weight[k] = spatial_weight[k] * rangeKernel(range * dr);
+          const int g = face_rings.faces[k];
+          const double ds = (own_centroid - centroid_of(g)).squaredNorm();
+          const double face_area = params.area_power == 0.0   ? 1.0
+                                   : params.area_power == 1.0 ? double(area[g])
+                                                              : std::pow(double(area[g]), params.area_power);
+          const double dr = (own - kernel_normals[g].cast<double>()).squaredNorm();
+          weight[k] = float(face_area * std::exp(spatial * ds) * rangeKernel(range * dr));
         }
+      }
+      if (guided) std::vector<Normal3f>().swap(guidance);
     }
+    next.resize(m);
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
     for (int f = 0; f < m; ++f) {
       Vec3 sum = Vec3::Zero();
       for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k)
-        sum += weight[k] * out[face_rings.faces[k]];
+        sum += double(weight[k]) * out[face_rings.faces[k]].cast<double>();
       const double len = sum.norm();
-      next[f] = len > 0 && std::isfinite(len) ? Vec3(sum / len) : out[f];
+      next[f] = len > 0 && std::isfinite(len) ? Normal3f((sum / len).cast<float>()) : out[f];
     }
     out.swap(next);
   }
+  std::vector<Normal3f>().swap(next);
+  std::vector<float>().swap(weight);
+  normals.resize(m);
+  for (int f = 0; f < m; ++f) normals[f] = out[f].cast<double>();
+}
+
+} // namespace detail
+
+// Filters face normals in place: `normals` holds the unit normals of the faces of (`points`,
+// `faces`) on entry and the filtered ones on return (the positions do not change meanwhile).
+// The filter's state is kept in single precision (normals, guidance, consistency, face areas and
+// the weights per face-ring entry; sums and weights are computed in double), and the faces'
+// centroids are computed where the weights need them: about 80 bytes per face at its peak, most
+// of them the weights (4 bytes per face-ring entry), against 300 with everything in double and
+// kept. A normal's float rounding (6e-8) is far below what the filter resolves. The result is
+// the same for any thread count (every face is written by one thread from the previous
+// iteration's values). `normals`' own buffer is released while the filter runs.
+inline void filterNormalsInPlace(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                 const FaceRings &face_rings, const NormalFilterParams &params,
+                                 double mean_edge, std::vector<Vec3> &normals) {
+  const int m = int(faces.size());
+  std::vector<float> area(m);
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
+  for (int f = 0; f < m; ++f) {
+    double len;
+    detail::unitFaceNormal(points[faces[f][0]], points[faces[f][1]], points[faces[f][2]], len);
+    area[f] = float(0.5 * len);
+  }
+  detail::filterNormalsCore(
+      face_rings, area,
+      [&](int f) {
+        return Vec3((points[faces[f][0]] + points[faces[f][1]] + points[faces[f][2]]) / 3.0);
+      },
+      params, mean_edge, normals);
+}
+
+// Filters `geometry.normal` into `out` (unit normals, one per face).
+inline void filterNormals(const std::vector<Face> &faces, const FaceRings &face_rings,
+                          const FaceGeometry &geometry, const NormalFilterParams &params,
+                          double mean_edge, std::vector<Vec3> &out) {
+  (void)faces;
+  out = geometry.normal;
+  const std::vector<float> area(geometry.area.begin(), geometry.area.end());
+  detail::filterNormalsCore(
+      face_rings, area,
+      [&](int f) { return geometry.centroid[f]; }, params, mean_edge, out);
 }
 
 } // namespace vcg_ext

@@ -72,20 +72,19 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
                                                 std::vector<Vec3> &out_points,
                                                 VertexQuantities &quantities,
                                                 const ProgressFn &progress = nullptr,
-                                                const DriverSetup *given_setup = nullptr) {
+                                                DriverSetup *given_setup = nullptr) {
   using clock = std::chrono::steady_clock;
   auto seconds = [](clock::time_point a) {
     return std::chrono::duration<double>(clock::now() - a).count();
   };
   OrganicSmoothReport report;
   const int n = int(mesh.points.size());
-  const int face_count = int(mesh.faces.size());
   auto t = clock::now();
   // `given_setup`: as in featureSmoothMesh, the topology when the caller has it already.
   std::optional<detail::DriverSetup> own_setup;
   if (!given_setup)
     own_setup.emplace(detail::driverSetup(mesh, params.selected_only, params.boundary));
-  const detail::DriverSetup &setup = given_setup ? *given_setup : *own_setup;
+  detail::DriverSetup &setup = given_setup ? *given_setup : *own_setup;
   const Rings &rings = setup.rings;
   const detail::VertexRoles &roles = setup.roles;
   const std::vector<std::uint8_t> &fixed = setup.fixed;
@@ -96,10 +95,12 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   report.frozen_vertices = setup.frozen_vertices;
   report.boundary_vertices = setup.boundary_vertices;
   report.volume_before = setup.volume_before;
-  FaceGeometry geometry;
-  computeFaceGeometry(mesh.points, mesh.faces, geometry);
-  report.dihedral_spread_deg =
-      medianDihedralSpreadDeg(mesh.points, mesh.faces, geometry, setup.face_rings);
+  {
+    FaceGeometry geometry;
+    computeFaceGeometry(mesh.points, mesh.faces, geometry);
+    report.dihedral_spread_deg =
+        medianDihedralSpreadDeg(mesh.points, mesh.faces, geometry, setup.face_rings);
+  }
   report.noise = setup.noise;
   report.roughness = detail::measuredRoughness(setup.noise, report.dihedral_spread_deg,
                                                params.clean_spread_deg, params.noisy_spread_deg);
@@ -119,6 +120,9 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     // Asked for more than measured: at least a tenth of an edge length per strength unit above 1.
     bands.min_noise_edges = std::max(0.0, params.strength - 1) * params.noise_edges_per_strength;
     if (params.coloured_noise) bands.noise_colour = noiseColour(setup.noise, bands.band_pairs, params.colour);
+    // The band shrinkage, this mode's peak memory, reads no face rings: they are made again for
+    // the patch update (a fraction of a second per million faces, against ~136 bytes per vertex).
+    setup.face_rings = FaceRings();
     report.bands = bandShrinkSmooth(current, mesh.faces, rings, fixed, roles.boundary_neighbours,
                                     bands, [&](double fraction) {
                                       return !progress ||
@@ -128,8 +132,8 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     if (report.bands.cancelled) return report.cancelled = true, report;
 
     t = clock::now();
-    std::vector<Vec3> next(current), vertex_normals;
-    std::vector<FacePatch> patches(face_count);
+    std::vector<Vec3> next(current), vertex_normals, face_normals;
+    FacePatches patches;
     // Patches take out curvature bias where the mesh is smooth at the scale of a face's
     // neighbourhood and add error where it has detail at that scale (measured with the earlier
     // 0.5/-0.53 bands: lion head 7.17 -> 7.01 with two updates, armadillo 10.57 -> 10.94): each
@@ -138,17 +142,18 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     report.patch_step = 1.0 - report.bands.detail;
     const int patch_updates = report.patch_step > 0 ? params.max_patch_updates : 0;
     report.patch_updates = patch_updates;
+    if (patch_updates > 0) setup.face_rings = computeFaceRings(mesh.faces, rings);
     for (int update = 0; update < patch_updates; ++update) {
-      computeFaceGeometry(current, mesh.faces, geometry);
+      computeFaceNormals(current, mesh.faces, face_normals);
       long rejected = 0;
       const std::vector<double> face_alpha =
           params.alpha_override ? std::vector<double>()
                                 : detail::saliencyFaceAlpha(current, mesh.faces, setup,
                                                             params.saliency_scale * setup.stats.bbox_diagonal);
-      const long fallbacks = fitFacePatches(current, mesh.faces, setup.face_rings, geometry,
-                                            geometry.normal, edge, params.patches, face_alpha,
-                                            patches);
-      if (report.boundary_vertices) computeVertexNormals(current, mesh.faces, rings, vertex_normals);
+      const long fallbacks = fitFacePatches(current, mesh.faces, setup.face_rings, face_normals,
+                                            edge, params.patches, face_alpha, patches);
+      if (report.boundary_vertices)
+        computeBoundaryVertexNormals(current, mesh.faces, rings, vertex_normals);
 #pragma omp parallel for schedule(static) reduction(+ : rejected) if (n >= min_parallel_vertices)
       for (int v = 0; v < n; ++v) {
         next[v] = current[v];
@@ -174,6 +179,8 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   }
 
   if (progress && !progress(95, "Result quantities")) return report.cancelled = true, report;
+  // Only the result and the rings are read from here on (feature_smooth.h: the same).
+  setup.face_rings = FaceRings();
   t = clock::now();
   report.vertices_moved = detail::describeResult(mesh.points, current, mesh.faces, rings,
                                                  params.saliency_scale * setup.stats.bbox_diagonal,

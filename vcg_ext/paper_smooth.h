@@ -206,7 +206,8 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
   const int n = int(mesh.points.size());
   auto t0 = clock::now();
   detail::DriverSetup setup =
-      detail::driverSetup(mesh, params.selected_only, params.boundary, /*with_face_rings=*/false);
+      detail::driverSetup(mesh, params.selected_only, params.boundary, /*with_face_rings=*/false,
+                          /*with_two_rings=*/true);
   Rings &rings = setup.rings;
   const EdgeStatistics &stats = setup.stats;
   const detail::VertexRoles &roles = setup.roles;

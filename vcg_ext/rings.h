@@ -9,7 +9,9 @@
 #include "mesh_arrays.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <new>
 #include <utility>
 
 namespace vcg_ext {
@@ -43,6 +45,28 @@ inline int min_parallel_vertices = 20000;
 
 namespace detail {
 
+// An allocation that fails inside an OpenMP region cannot leave it as an exception (the runtime
+// calls std::terminate: the process aborts). Regions that allocate run their bodies through
+// `run`, which notes the failure, and call rethrow() after the region, where std::bad_alloc can
+// reach the filter (which refuses the run and leaves the mesh as it was).
+class AllocationGuard {
+public:
+  template <class Body> void run(Body &&body) noexcept {
+    if (failed_.load(std::memory_order_relaxed)) return;
+    try {
+      body();
+    } catch (const std::bad_alloc &) {
+      failed_.store(true, std::memory_order_relaxed);
+    }
+  }
+  void rethrow() const {
+    if (failed_.load()) throw std::bad_alloc();
+  }
+
+private:
+  std::atomic<bool> failed_{false};
+};
+
 // Per-vertex lists built in parallel: vertices are cut into fixed blocks (independent of the thread
 // count), each block appends its vertices' lists to its own buffer via `fill(v, out)`, and the
 // buffers are joined in vertex order into a CSR.
@@ -53,15 +77,18 @@ void buildCsrInBlocks(int n, std::vector<int> &offsets, std::vector<int> &values
   const int block = kCsrBlock, blocks = (n + block - 1) / block;
   std::vector<std::vector<int>> buffer(blocks);
   offsets.assign(n + 1, 0);
+  AllocationGuard guard;
 #pragma omp parallel for schedule(dynamic, 1) if (n >= min_parallel_vertices)
-  for (int b = 0; b < blocks; ++b) {
-    std::vector<int> &out = buffer[b];
-    for (int v = b * block; v < std::min(n, (b + 1) * block); ++v) {
-      const size_t before = out.size();
-      fill(v, out);
-      offsets[v + 1] = int(out.size() - before);
-    }
-  }
+  for (int b = 0; b < blocks; ++b)
+    guard.run([&] {
+      std::vector<int> &out = buffer[b];
+      for (int v = b * block; v < std::min(n, (b + 1) * block); ++v) {
+        const size_t before = out.size();
+        fill(v, out);
+        offsets[v + 1] = int(out.size() - before);
+      }
+    });
+  guard.rethrow();
   for (int v = 0; v < n; ++v) offsets[v + 1] += offsets[v];
   values.resize(offsets[n]);
   for (int b = 0; b < blocks; ++b)
@@ -72,7 +99,10 @@ void buildCsrInBlocks(int n, std::vector<int> &offsets, std::vector<int> &values
 
 // Builds the rings of a triangle mesh with `vertex_count` vertices. Every list is gathered per
 // vertex from its own faces (no global sort of the edges), in parallel, in vertex order.
-inline Rings computeRings(int vertex_count, const std::vector<Face> &faces) {
+// `with_two_rings` false leaves the 2-rings empty: only the paper's patches read them, and they
+// are the largest lists (about 18 entries per vertex, 76 bytes per vertex with the offsets).
+inline Rings computeRings(int vertex_count, const std::vector<Face> &faces,
+                          bool with_two_rings = true) {
   Rings r;
   r.vertex_count = vertex_count;
   const int n = vertex_count;
@@ -166,6 +196,7 @@ inline Rings computeRings(int vertex_count, const std::vector<Face> &faces) {
   // would bend the patch fitted to this one (measured: a fin of height 0.3 on a unit grid lifted
   // its neighbours by 0.07).
   // The 1-rings are sorted: merging them costs less than sorting their concatenation.
+  if (!with_two_rings) return r;
   detail::buildCsrInBlocks(n, r.ring2_offsets, r.ring2, [&](int v, std::vector<int> &out) {
     thread_local std::vector<int> ring, merged;
     ring.assign(r.ring1Begin(v), r.ring1End(v));

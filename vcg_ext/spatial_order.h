@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace vcg_ext {
@@ -78,26 +79,49 @@ struct SpatialOrder {
   }
 };
 
+// Renumbers `mesh` in place: vertices along the Morton curve, faces' corners renumbered and
+// rotated to start at the lowest (orientation kept), faces sorted; the selection, the mesh slots
+// and the slot map follow. Returns the map from the new vertex index to the old one.
+inline std::vector<int> putInSpatialOrder(MeshArrays &mesh) {
+  const int n = int(mesh.points.size());
+  std::vector<int> input_of = mortonOrder(mesh.points);
+  {
+    std::vector<Vec3> points(n);
+    for (int v = 0; v < n; ++v) points[v] = mesh.points[input_of[v]];
+    mesh.points.swap(points);
+  }
+  auto permute = [&](auto &values) {
+    if (values.size() != size_t(n)) return;
+    std::remove_reference_t<decltype(values)> out(n);
+    for (int v = 0; v < n; ++v) out[v] = values[input_of[v]];
+    values.swap(out);
+  };
+  permute(mesh.selected);
+  permute(mesh.mesh_slot);
+  std::vector<int> new_of(n);
+  for (int v = 0; v < n; ++v) new_of[input_of[v]] = v;
+  for (int &c : mesh.compact_index)
+    if (c >= 0 && c < n) c = new_of[c];
+  for (Face &f : mesh.faces) {
+    Face g = {new_of[f[0]], new_of[f[1]], new_of[f[2]]};
+    std::rotate(g.begin(), std::min_element(g.begin(), g.end()), g.end());
+    f = g;
+  }
+  std::sort(mesh.faces.begin(), mesh.faces.end());
+  mesh.spatially_ordered = true;
+  return input_of;
+}
+
+// A copy of `input` in spatial order (putInSpatialOrder), and the map back.
 inline SpatialOrder spatialOrder(const MeshArrays &input) {
   SpatialOrder s;
   const int n = int(input.points.size());
-  s.input_of = mortonOrder(input.points);
-  std::vector<int> new_of(n);
-  for (int v = 0; v < n; ++v) new_of[s.input_of[v]] = v;
-  s.mesh.points.resize(n);
+  s.mesh.points = input.points;
+  s.mesh.faces = input.faces;
   s.mesh.selected.assign(n, 0);
-  for (int v = 0; v < n; ++v) {
-    s.mesh.points[v] = input.points[s.input_of[v]];
-    if (size_t(s.input_of[v]) < input.selected.size()) s.mesh.selected[v] = input.selected[s.input_of[v]];
-  }
-  // Faces: corners renumbered and rotated to start at the lowest (orientation kept), then sorted.
-  s.mesh.faces.reserve(input.faces.size());
-  for (const Face &f : input.faces) {
-    Face g = {new_of[f[0]], new_of[f[1]], new_of[f[2]]};
-    std::rotate(g.begin(), std::min_element(g.begin(), g.end()), g.end());
-    s.mesh.faces.push_back(g);
-  }
-  std::sort(s.mesh.faces.begin(), s.mesh.faces.end());
+  for (int v = 0; v < n && size_t(v) < input.selected.size(); ++v)
+    s.mesh.selected[v] = input.selected[v];
+  s.input_of = putInSpatialOrder(s.mesh);
   return s;
 }
 

@@ -36,19 +36,25 @@ public:
     kind_.assign(n_, Kind::Still);
     for (int l = 0; l < n_; ++l) {
       const int v = to_global_[l];
+      int count = 0;
       if (fixed[v] || rings.ring1Size(v) == 0) {
       } else if (rings.boundary[v]) {
-        if (curve[v][0] >= 0 && curve[v][1] >= 0) {
-          kind_[l] = Kind::Curve;
-          neighbours_.push_back(to_local_[curve[v][0]]);
-          neighbours_.push_back(to_local_[curve[v][1]]);
-        }
+        if (curve[v][0] >= 0 && curve[v][1] >= 0) kind_[l] = Kind::Curve, count = 2;
       } else {
-        kind_[l] = Kind::Interior;
-        for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w)
-          neighbours_.push_back(to_local_[*w]);
+        kind_[l] = Kind::Interior, count = rings.ring1Size(v);
       }
-      offsets_[l + 1] = int(neighbours_.size());
+      offsets_[l + 1] = offsets_[l] + count;
+    }
+    neighbours_.resize(offsets_[n_]);
+    for (int l = 0; l < n_; ++l) {
+      const int v = to_global_[l];
+      int *out = neighbours_.data() + offsets_[l];
+      if (kind_[l] == Kind::Curve) {
+        out[0] = to_local_[curve[v][0]];
+        out[1] = to_local_[curve[v][1]];
+      } else if (kind_[l] == Kind::Interior) {
+        for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) *out++ = to_local_[*w];
+      }
     }
   }
 
@@ -70,7 +76,9 @@ public:
   void smooth(const std::vector<std::vector<Vec3> *> &fields, int pairs, double lambda, double mu,
               bool boundary_still = false) const {
     const int count = int(fields.size());
-    std::vector<std::vector<Vec3>> next(count);
+    // The step's output buffers are kept between calls (a band shrinkage makes dozens of calls).
+    std::vector<std::vector<Vec3>> &next = next_;
+    if (int(next.size()) < count) next.resize(count);
     for (int k = 0; k < count; ++k) next[k].resize(n_);
     for (int step = 0; step < 2 * pairs; ++step) {
       const double factor = step % 2 == 0 ? lambda : mu;
@@ -105,6 +113,7 @@ private:
   int n_;
   std::vector<int> to_global_, to_local_, offsets_, neighbours_;
   std::vector<Kind> kind_;
+  mutable std::vector<std::vector<Vec3>> next_;
 };
 
 } // namespace vcg_ext

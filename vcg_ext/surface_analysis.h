@@ -25,9 +25,11 @@ inline void computeMeshSaliency(const std::vector<Vec3> &points, const Rings &ri
 
 // `saliency_scale` is the paper's epsilon as an absolute length (the filter's parameter is a
 // fraction of the bounding-box diagonal).
+// `with_directions` as in computeCurvature.
 inline void analyseSurface(const std::vector<Vec3> &points, const std::vector<Face> &faces,
-                           const Rings &rings, double saliency_scale, SurfaceAnalysis &out) {
-  computeCurvature(points, faces, rings, out.curvature);
+                           const Rings &rings, double saliency_scale, SurfaceAnalysis &out,
+                           bool with_directions = true) {
+  computeCurvature(points, faces, rings, out.curvature, with_directions);
   computeMeshSaliency(points, rings, out.curvature, saliency_scale, out.saliency);
 }
 

@@ -66,9 +66,12 @@ class MeshLabGui:
     MeshLab looks for plugins/ next to its executable (after resolving links), so the executable
     is copied into workdir."""
 
-    def __init__(self, workdir, plugins, mesh=None, screen=(1280, 1024)):
+    def __init__(self, workdir, plugins, mesh=None, screen=(1280, 1024), executable=None):
+        """executable: run that MeshLab as it is (e.g. /usr/bin/meshlab, which loads the system
+        plugin folder) instead of a private copy with `plugins` (then None)."""
         self.workdir = pathlib.Path(workdir)
         self.plugins, self.mesh, self.screen = plugins, mesh, screen
+        self.executable = executable
         self.xvfb = self.meshlab = None
         self.env = None
         self.log_path = self.workdir / "meshlab.log"
@@ -85,10 +88,14 @@ class MeshLabGui:
         self.stop()
 
     def start(self, timeout=60):
-        app = self.workdir / "meshlab"
-        app.mkdir(parents=True)
-        shutil.copy2(PRIVATE_MESHLAB / "meshlab", app / "meshlab")
-        plugin_folder(app / "plugins", self.plugins)
+        if self.executable:
+            program = pathlib.Path(self.executable)
+        else:
+            app = self.workdir / "meshlab"
+            app.mkdir(parents=True)
+            shutil.copy2(PRIVATE_MESHLAB / "meshlab", app / "meshlab")
+            plugin_folder(app / "plugins", self.plugins)
+            program = app / "meshlab"
         home = self.workdir / "home"
         (home / "runtime").mkdir(parents=True)
         (home / "runtime").chmod(0o700)
@@ -122,7 +129,7 @@ class MeshLabGui:
                         XDG_RUNTIME_DIR=str(home / "runtime"),
                         LD_LIBRARY_PATH=MESHLAB_LIB + ":" + os.environ.get("LD_LIBRARY_PATH", ""))
         self.env.pop("XAUTHORITY", None)
-        command = [str(app / "meshlab")] + ([str(self.mesh)] if self.mesh else [])
+        command = [str(program)] + ([str(self.mesh)] if self.mesh else [])
         with open(self.log_path, "wb") as log:
             self.meshlab = subprocess.Popen(command, env=self.env, stdout=log,
                                             stderr=subprocess.STDOUT, cwd=self.workdir)

@@ -126,3 +126,33 @@ def test_saliency_map_shows_fandisks_creases_at_default_colour_settings(tmp_path
           f"elsewhere {np.median(shown[~sharp]):.3f}")
     assert np.median(shown[sharp]) > 0.5, np.median(shown[sharp])
     assert np.median(shown[~sharp]) < 0.2, np.median(shown[~sharp])
+
+
+def test_write_mlx_takes_labels_keys_and_on_off_and_explains_errors():
+    """write_mlx: choices by label, index or method key, booleans by name; a bad value or an
+    unknown parameter exits 2 with a message that lists what is allowed, never an abort."""
+    import subprocess
+    tool = str(BUILD / "tools" / "write_mlx")
+
+    def run(*args):
+        return subprocess.run([tool, *args], capture_output=True, text=True)
+
+    by_label = run("smooth", "placement=Organic scan", "preserve_volume=no", "color=on")
+    assert by_label.returncode == 0, by_label.stderr
+    assert 'name="placement" type="RichEnum" value="4"' in by_label.stdout
+    assert 'name="preserve_volume" type="RichBool" value="false"' in by_label.stdout
+    assert 'name="color" type="RichBool" value="true"' in by_label.stdout
+    assert run("smooth", "placement=organic").stdout == run("smooth", "placement=4").stdout
+    bad_choice = run("smooth", "placement=Organix")
+    assert bad_choice.returncode == 2
+    assert "'placement' is one of 0 = 'Ring barycentre' (ring)" in bad_choice.stderr
+    bad_bool = run("smooth", "preserve_volume=maybe")
+    assert bad_bool.returncode == 2 and "on or off" in bad_bool.stderr
+    bad_int = run("smooth", "iterations=2.5")
+    assert bad_int.returncode == 2 and "whole number" in bad_int.stderr
+    unknown = run("smooth", "iteration=3")
+    assert unknown.returncode == 2 and "newton_step_limit" in unknown.stderr  # lists them all
+    usage = run()
+    assert usage.returncode == 2
+    for name in ("color", "placement", "iterations", "alpha_override", "saliency_scale", "quality"):
+        assert f"  {name} (" in usage.stderr

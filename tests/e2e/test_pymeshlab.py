@@ -422,3 +422,6 @@ def test_smoothing_returns_the_method_that_ran(pymeshlab, shared):
     clean = load(pymeshlab, shared / "data" / "benchmark" / "Fandisk0.3" / "clean.ply")
     assert clean.apply_filter(SMOOTH) == {"method": -1, "vertices_moved": 0,
                                           "mean_displacement": 0.0, "roughness": 0.0}
+    # The user insists (strength 2 = iterations 6): the clean-measured mesh is smoothed.
+    insisted = clean.apply_filter(SMOOTH, iterations=6)
+    assert insisted["method"] == 3 and insisted["vertices_moved"] > 1000, insisted

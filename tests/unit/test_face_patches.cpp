@@ -146,3 +146,42 @@ TEST(FacePatches, PlaneUpdateIsThePatchUpdateWithFlatPatchesToTheBit) {
               moveOntoFacePatches(v, m.points[v], s.rings, planes))
         << "vertex " << v;
 }
+
+TEST(FacePatches, CompactPatchesAreTheFittedPatchesInSinglePrecision) {
+  // fitFacePatches keeps per face only the coefficients, in single precision (the origin and
+  // normal are read back from the fit's arrays, the areas recomputed): every patch must be the
+  // FacePatch fit (fitFacePatch) with its coefficients rounded to float, to the bit, and the
+  // vertex updates onto them within 1e-6 mean edge lengths of the updates onto the exact fits.
+  MeshArrays m = test_meshes::icosphere(1.0, 3);
+  test_meshes::addNoise(m, 0.03, 7);
+  const PatchSetup s(m);
+  std::vector<Vec3> normals = s.geometry.normal;
+  for (size_t f = 0; f < normals.size(); ++f)
+    normals[f] = (normals[f] + Vec3(0.05 * std::sin(3.0 * f), 0.05 * std::cos(f), 0.0)).normalized();
+  const std::vector<FacePatch> each = s.patches(normals);
+  std::vector<FacePatch> rounded = each;
+  for (FacePatch &p : rounded) p.c = p.c.cast<float>().cast<double>();
+  FacePatches compact;
+  const long fallbacks =
+      fitFacePatches(m.points, m.faces, s.face_rings, normals, s.edge, FacePatchParams(), {}, compact);
+  ASSERT_EQ(compact.size(), each.size());
+  long curved = 0;
+  for (int f = 0; f < int(each.size()); ++f) {
+    const FacePatch p = compact.patch(f);
+    ASSERT_EQ(p.c, rounded[f].c) << "face " << f;
+    ASSERT_EQ(p.curved, each[f].curved) << "face " << f;
+    ASSERT_EQ(p.origin, each[f].origin) << "face " << f;
+    ASSERT_EQ(p.normal, each[f].normal) << "face " << f;
+    curved += p.curved;
+  }
+  EXPECT_EQ(curved + fallbacks, long(each.size()));
+  EXPECT_GT(curved, long(each.size()) / 2);
+  double largest = 0;
+  for (int v = 0; v < int(m.points.size()); ++v) {
+    const Vec3 moved = moveOntoFacePatches(v, m.points[v], s.rings, compact);
+    ASSERT_EQ(moved, moveOntoFacePatches(v, m.points[v], s.rings, rounded)) << "vertex " << v;
+    largest = std::max(largest, (moved - moveOntoFacePatches(v, m.points[v], s.rings, each)).norm());
+  }
+  EXPECT_LT(largest, 1e-6 * s.edge);
+  RecordProperty("largest_move_difference_edges", std::to_string(largest / s.edge));
+}

@@ -193,12 +193,11 @@ TEST(FacePatchAlpha, LowerAlphaFitsAFlatterPatch) {
   const int centre_face = int(bowl.faces.size()) / 2;
   double previous = INFINITY;
   for (double alpha : {1.0, 0.6, 0.3, 0.0}) {
-    std::vector<FacePatch> patches;
+    FacePatches patches;
     FacePatchParams params;
     params.alpha = alpha;
-    fitFacePatches(bowl.points, bowl.faces, face_rings, geometry, geometry.normal, edge, params,
-                   {}, patches);
-    const FacePatch &p = patches[centre_face];
+    fitFacePatches(bowl.points, bowl.faces, face_rings, geometry.normal, edge, params, {}, patches);
+    const FacePatch p = patches.patch(centre_face);
     const double bending = std::abs(p.c[6]) + std::abs(p.c[2]); // x² and y² coefficients
     EXPECT_LT(bending, previous) << "alpha " << alpha;
     previous = bending;
