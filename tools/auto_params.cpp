@@ -36,7 +36,9 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   real("f.planar_extra", f.planar_extra);
   real("f.planar_share_from", f.planar_share_from);
   real("f.planar_share_full", f.planar_share_full);
-  r["f.correlated_level"] = [&f](double v) { f.correlated_level = v != 0; };
+  real("f.planar_normal_share", f.planar_normal_share);
+  real("f.planar_vertex_share", f.planar_vertex_share);
+  integer("f.correlated_bands", f.correlated_bands);
   real("f.clean_spread_deg", f.clean_spread_deg);
   real("f.noisy_spread_deg", f.noisy_spread_deg);
   r["f.bilateral"] = [&f](double v) {

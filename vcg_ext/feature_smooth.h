@@ -47,15 +47,23 @@ struct FeatureSmoothParams {
   // The pre-pass, normal filter and vertex iteration counts are scaled by the measured roughness:
   // nothing up to a dihedral spread of clean_spread_deg, in full from noisy_spread_deg.
   double clean_spread_deg = 32.0, noisy_spread_deg = 50.0;
-  bool correlated_level = false; // the roughness reads the noise estimate's correlated level
+  // The roughness reads the largest level of the noise estimate's first `correlated_bands` bands
+  // (its white-equivalent spectrum: 0-1, 1-2, 2-4 pairs) rather than its finest band alone: scanner
+  // noise, correlated over a few rings, reads up to 1.5 times higher there, white noise about the
+  // same (bench/SCANNER_METHOD.md). The 4-8 pair band reads more still, but on small CAD meshes it
+  // reads the creases too. 1: the finest band only.
+  int correlated_bands = 3;
   NormalFilterParams normals = featureNormalFilterDefaults();
   int outer_iterations = 2;   // filter normals, then move vertices; repeated
   int vertex_iterations = 6;  // vertex updates per outer pass
   int patch_iterations = 1;   // how many of the last pass's (the last ones) use face patches
   // Meshes of planar faces take up to (1 + planar_extra) times the normal filter iterations and
-  // vertex updates: the share of edges flat after the first guidance period, from
-  // planar_share_from (no extra) to planar_share_full (all of it).
-  double planar_extra = 0.0, planar_share_from = 0.2, planar_share_full = 0.3;
+  // vertex updates, by the share of edges flat after the first guidance period: none up to
+  // planar_share_from, all from planar_share_full. Planar faces gain from more (cube, cross,
+  // Block: 20-40 % lower θ), curved ones lose (SharpSphere0.3: 7.46 -> 9.48 at twice the counts);
+  // measured on the mode-choice set and the scanner cases (bench/SCANNER_METHOD.md).
+  double planar_extra = 1.0, planar_share_from = 0.3, planar_share_full = 0.45;
+  double planar_normal_share = 1.0, planar_vertex_share = 1.0; // of the extra, to each
   double tangential = 0.5;    // step of the tangential relaxation toward the 1-ring barycentre
   int relax_rings = 1;        // relax vertices within this many rings of a folded face; −1: all
   double fold_cos = 0.5;      // a face is folded when its normal is this far from its filtered one
@@ -208,7 +216,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   report.noise = setup.noise;
   report.roughness = detail::measuredRoughness(setup.noise, report.dihedral_spread_deg,
                                                params.clean_spread_deg, params.noisy_spread_deg,
-                                               params.correlated_level);
+                                               params.correlated_bands);
   report.amount = detail::strengthen(report.roughness, params.strength);
   report.prepass_pairs = int(std::lround(report.amount * std::max(0, params.prepass_pairs)));
   NormalFilterParams normal_filter = params.normals;
@@ -257,8 +265,9 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
                              std::clamp((report.flat_share - params.planar_share_from) /
                                             (params.planar_share_full - params.planar_share_from),
                                         0.0, 1.0);
-        normal_filter.iterations = int(std::lround(normal_filter.iterations * (1 + extra)));
-        vertex_iterations = int(std::lround(vertex_iterations * (1 + extra)));
+        normal_filter.iterations =
+            int(std::lround(normal_filter.iterations * (1 + extra * params.planar_normal_share)));
+        vertex_iterations = int(std::lround(vertex_iterations * (1 + extra * params.planar_vertex_share)));
         report.normal_iterations = normal_filter.iterations;
         report.vertex_iterations = vertex_iterations;
       }

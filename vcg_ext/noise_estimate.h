@@ -215,8 +215,8 @@ struct NoiseColourParams {
 // its energy over that of white noise with the same finest-band level, from the estimate's
 // white-equivalent spectrum (noise correlated over several rings puts more of its energy into the
 // coarser bands than white noise does). Bands the estimate measured take its ratios; coarser ones
-// continue the rise of its last octave, at most `max_octave_rise` per octave and `max_rise` in
-// all. The shape's own spectrum rises too, so this over-reads the colour of meshes with much fine
+// continue the rise of its last octave, at most `max_octave_rise` per octave, at most the whole
+// measured rise, and at most `max_rise` in all. The shape's own spectrum rises too, so this over-reads the colour of meshes with much fine
 // detail (coarse meshes): the weight and caps bound it.
 inline std::vector<double> noiseColour(const NoiseEstimate &noise, const std::vector<int> &band_pairs,
                                        const NoiseColourParams &params = {}) {
@@ -231,7 +231,9 @@ inline std::vector<double> noiseColour(const NoiseEstimate &noise, const std::ve
   if (params.rise_coloured > params.rise_white)
     weight *= std::clamp((s.back() / s[0] - params.rise_white) /
                              (params.rise_coloured - params.rise_white), 0.0, 1.0);
-  const double octave = std::clamp(s.back() / s[s.size() - 2], 1.0, params.max_octave_rise);
+  // The last octave's rise, at most the whole spectrum's (a wobble of a flat one is not a rise).
+  const double octave = std::clamp(s.back() / s[s.size() - 2], 1.0,
+                                   std::max(1.0, std::min(params.max_octave_rise, s.back() / s[0])));
   for (int b = 0; b < bands; ++b) {
     double rise;
     if (b < int(s.size())) rise = s[b] / s[0];
