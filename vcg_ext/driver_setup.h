@@ -174,8 +174,9 @@ inline std::string measuredCleanPhrase(const NoiseEstimate &noise) {
 // The noise estimate in the summary lines.
 inline std::string noisePhrase(const NoiseEstimate &noise, double roughness) {
   return formatLine("noise estimate: dihedral spread %.1f deg (%.2f of it left after one Taubin "
-                    "pair), level %.3f mean edge lengths, roughness %.2f",
-                    noise.spread_deg, noise.decay, noise.level, roughness);
+                    "pair), level %.3f mean edge lengths (%.3f in the coarser bands), roughness "
+                    "%.2f",
+                    noise.spread_deg, noise.decay, noise.level, noise.correlated_level, roughness);
 }
 
 
@@ -302,13 +303,18 @@ inline double roughnessOf(double spread_deg, double clean_spread_deg, double noi
 // The measured methods' need for smoothing, 0 (clean) .. 1 (noisy): 0 where the noise estimate
 // reads clean (noise_estimate.h: the dihedral spread barely decays under one Taubin pair); else
 // the larger of the dihedral spread's roughness (roughnessOf) and the noise level over a tenth of
-// an edge length. The spread alone took real scans for clean (14-26 deg, like coarse clean
+// an edge length; `correlated_bands` > 1: the largest level of the estimate's first that many
+// bands (its spectrum), which reads noise correlated over a few rings. The spread alone took real scans for clean (14-26 deg, like coarse clean
 // meshes); its decay tells them apart (bench/NOISE_ESTIMATE.md).
 inline double measuredRoughness(const NoiseEstimate &noise, double spread_deg,
-                                double clean_spread_deg, double noisy_spread_deg) {
+                                double clean_spread_deg, double noisy_spread_deg,
+                                int correlated_bands = 1) {
   if (!noise.noisy) return 0.0;
+  double level = noise.level;
+  for (int b = 1; b < std::min<int>(correlated_bands, int(noise.spectrum.size())); ++b)
+    level = std::max(level, noise.spectrum[b]);
   return std::max(roughnessOf(spread_deg, clean_spread_deg, noisy_spread_deg),
-                  std::min(1.0, noise.level / 0.1));
+                  std::min(1.0, level / 0.1));
 }
 
 // How much a driver smooths: the measured need (0 = clean .. 1 = noisy) times the user's

@@ -20,6 +20,7 @@
 
 #include "driver_setup.h"
 #include "face_patches.h"
+#include "mode_choice.h"
 
 #include <Eigen/Eigenvalues>
 
@@ -46,10 +47,23 @@ struct FeatureSmoothParams {
   // The pre-pass, normal filter and vertex iteration counts are scaled by the measured roughness:
   // nothing up to a dihedral spread of clean_spread_deg, in full from noisy_spread_deg.
   double clean_spread_deg = 32.0, noisy_spread_deg = 50.0;
+  // The roughness reads the largest level of the noise estimate's first `correlated_bands` bands
+  // (its white-equivalent spectrum: 0-1, 1-2, 2-4 pairs) rather than its finest band alone: scanner
+  // noise, correlated over a few rings, reads up to 1.5 times higher there, white noise about the
+  // same (bench/SCANNER_METHOD.md). The 4-8 pair band reads more still, but on small CAD meshes it
+  // reads the creases too. 1: the finest band only.
+  int correlated_bands = 3;
   NormalFilterParams normals = featureNormalFilterDefaults();
   int outer_iterations = 2;   // filter normals, then move vertices; repeated
   int vertex_iterations = 6;  // vertex updates per outer pass
   int patch_iterations = 1;   // how many of the last pass's (the last ones) use face patches
+  // Meshes of planar faces take up to (1 + planar_extra) times the normal filter iterations and
+  // vertex updates, by the share of edges flat after the first guidance period: none up to
+  // planar_share_from, all from planar_share_full. Planar faces gain from more (cube, cross,
+  // Block: 20-40 % lower θ), curved ones lose (SharpSphere0.3: 7.46 -> 9.48 at twice the counts);
+  // measured on the mode-choice set and the scanner cases (bench/SCANNER_METHOD.md).
+  double planar_extra = 1.0, planar_share_from = 0.3, planar_share_full = 0.45;
+  double planar_normal_share = 1.0, planar_vertex_share = 1.0; // of the extra, to each
   double tangential = 0.5;    // step of the tangential relaxation toward the 1-ring barycentre
   int relax_rings = 1;        // relax vertices within this many rings of a folded face; −1: all
   double fold_cos = 0.5;      // a face is folded when its normal is this far from its filtered one
@@ -81,6 +95,7 @@ struct FeatureSmoothReport {
   double amount = 0;              // the roughness with the user's strength: what scales the passes
   int prepass_pairs = 0;          // Taubin pairs actually run
   int vertex_iterations = 0;      // vertex updates actually run per pass
+  double flat_share = 0;          // edges flat after the first guidance period (planar_extra)
   int normal_iterations = 0;      // normal filter iterations actually run per pass
   double volume_before = 0, volume_after = 0;
   bool closed = false;
@@ -200,14 +215,14 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   geometry = FaceGeometry(); // (the spread's only)
   report.noise = setup.noise;
   report.roughness = detail::measuredRoughness(setup.noise, report.dihedral_spread_deg,
-                                               params.clean_spread_deg, params.noisy_spread_deg);
+                                               params.clean_spread_deg, params.noisy_spread_deg,
+                                               params.correlated_bands);
   report.amount = detail::strengthen(report.roughness, params.strength);
   report.prepass_pairs = int(std::lround(report.amount * std::max(0, params.prepass_pairs)));
   NormalFilterParams normal_filter = params.normals;
   normal_filter.iterations = int(std::lround(report.amount * std::max(0, params.normals.iterations)));
   report.normal_iterations = normal_filter.iterations;
-  const int vertex_iterations =
-      int(std::lround(report.amount * std::max(0, params.vertex_iterations)));
+  int vertex_iterations = int(std::lround(report.amount * std::max(0, params.vertex_iterations)));
   report.vertex_iterations = vertex_iterations;
   if (edge > 0) taubinSmooth(current, rings, fixed, roles.boundary_neighbours, report.prepass_pairs);
   report.seconds_prepass = seconds(t);
@@ -231,17 +246,30 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
     // goes on from there (guidance is recomputed every `guidance_every` iterations from the
     // current normals and the spatial weights depend on the unchanged geometry, so the split
     // gives the same normals as one call).
+    const bool scale_by_flatness = params.planar_extra > 0;
     const int check_iterations =
-        pass == 0 && first_pass_check
+        pass == 0 && (first_pass_check || scale_by_flatness)
             ? std::min(normal_filter.iterations, std::max(1, normal_filter.guidance_every))
             : 0;
     if (check_iterations > 0) {
       NormalFilterParams first = normal_filter;
       first.iterations = check_iterations;
       filterNormalsInPlace(current, mesh.faces, face_rings, first, edge, filtered);
-      if (!first_pass_check(filtered, setup)) {
+      if (first_pass_check && !first_pass_check(filtered, setup)) {
         report.seconds_normals += seconds(t);
         return report.declined = true, report;
+      }
+      if (scale_by_flatness) {
+        report.flat_share = sharpFeatureEvidence(filtered, filtered, face_rings).flat_share;
+        const double extra = params.planar_extra *
+                             std::clamp((report.flat_share - params.planar_share_from) /
+                                            (params.planar_share_full - params.planar_share_from),
+                                        0.0, 1.0);
+        normal_filter.iterations =
+            int(std::lround(normal_filter.iterations * (1 + extra * params.planar_normal_share)));
+        vertex_iterations = int(std::lround(vertex_iterations * (1 + extra * params.planar_vertex_share)));
+        report.normal_iterations = normal_filter.iterations;
+        report.vertex_iterations = vertex_iterations;
       }
       NormalFilterParams rest = normal_filter;
       rest.iterations = normal_filter.iterations - check_iterations;

@@ -57,6 +57,9 @@ struct NoiseEstimate {
   bool noisy = false;
   double level = 0;              // white-equivalent noise std along the normals, mean edge lengths
   std::vector<double> spectrum;  // the same per band of `band_pairs` (level = spectrum[0])
+  // The largest of the spectrum's levels: noise correlated over several rings has more of its
+  // amplitude in the coarser bands than its finest-band level says (white noise: about `level`).
+  double correlated_level = 0;
   double spread_deg = 0;         // median dihedral spread of the input (normal_filter.h)
   double smoothed_spread_deg = 0; // the same after one Taubin pair
   double decay = 1;              // smoothed_spread_deg / spread_deg (1 when the spread is 0)
@@ -170,6 +173,7 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
     probe_current.swap(probe_next);
   }
   out.level = out.spectrum[0];
+  out.correlated_level = *std::max_element(out.spectrum.begin(), out.spectrum.end());
   return out;
 }
 
@@ -188,6 +192,56 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
   const detail::VertexRoles roles =
       detail::vertexRoles(mesh, rings, edgeStatistics(points, rings).mean_edge_length);
   return estimateNoise(points, faces, rings, computeFaceRings(faces, rings), roles, params);
+}
+
+} // namespace vcg_ext
+
+namespace vcg_ext {
+
+// How a noise's colour is extrapolated beyond the estimate's bands (noiseColour).
+struct NoiseColourParams {
+  double max_octave_rise = 1.35; // the largest amplitude rise per octave of pairs extrapolated
+  double max_rise = 4.0;         // the largest amplitude over the finest band's
+  double weight = 1.0;           // 0: white (every band 1); 1: as measured and extrapolated
+  // The weight ramps from 0 to `weight` as the level rises from level_white to level_coloured
+  // (mean edge lengths): at low levels the rise of the fine bands is mostly the shape's.
+  double level_white = 0.0, level_coloured = 0.0;
+  // And from 0 to 1 as the rise of the spectrum (its last band over its first) goes from
+  // rise_white to rise_coloured: white noise measures a rise of about 1.
+  double rise_white = 0.0, rise_coloured = 0.0;
+};
+
+// The noise's colour per band of `band_pairs` (edges in Taubin pairs, as BandShrinkParams's):
+// its energy over that of white noise with the same finest-band level, from the estimate's
+// white-equivalent spectrum (noise correlated over several rings puts more of its energy into the
+// coarser bands than white noise does). Bands the estimate measured take its ratios; coarser ones
+// continue the rise of its last octave, at most `max_octave_rise` per octave, at most the whole
+// measured rise, and at most `max_rise` in all. The shape's own spectrum rises too, so this over-reads the colour of meshes with much fine
+// detail (coarse meshes): the weight and caps bound it.
+inline std::vector<double> noiseColour(const NoiseEstimate &noise, const std::vector<int> &band_pairs,
+                                       const NoiseColourParams &params = {}) {
+  const int bands = int(band_pairs.size()) - 1;
+  std::vector<double> colour(std::max(0, bands), 1.0);
+  const std::vector<double> &s = noise.spectrum;
+  double weight = params.weight;
+  if (params.level_coloured > params.level_white)
+    weight *= std::clamp((noise.level - params.level_white) /
+                             (params.level_coloured - params.level_white), 0.0, 1.0);
+  if (s.size() < 2 || !(s[0] > 0) || weight <= 0) return colour;
+  if (params.rise_coloured > params.rise_white)
+    weight *= std::clamp((s.back() / s[0] - params.rise_white) /
+                             (params.rise_coloured - params.rise_white), 0.0, 1.0);
+  // The last octave's rise, at most the whole spectrum's (a wobble of a flat one is not a rise).
+  const double octave = std::clamp(s.back() / s[s.size() - 2], 1.0,
+                                   std::max(1.0, std::min(params.max_octave_rise, s.back() / s[0])));
+  for (int b = 0; b < bands; ++b) {
+    double rise;
+    if (b < int(s.size())) rise = s[b] / s[0];
+    else rise = s.back() / s[0] * std::pow(octave, b - int(s.size()) + 1);
+    rise = std::clamp(rise, 1.0, params.max_rise);
+    colour[b] = std::pow(rise, 2.0 * weight);
+  }
+  return colour;
 }
 
 } // namespace vcg_ext

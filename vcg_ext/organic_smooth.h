@@ -40,6 +40,9 @@ struct OrganicSmoothParams {
   // measured as clean is smoothed too when asked.
   double strength = 1.0;
   double noise_edges_per_strength = 0.1;
+  // The noise's colour (noise_estimate.h's noiseColour) multiplies the white probe's band energies.
+  bool coloured_noise = false;
+  NoiseColourParams colour;
   bool preserve_volume = true;
   double saliency_scale = 0.003;
 };
@@ -116,6 +119,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     bands.noise_scale *= report.amount;
     // Asked for more than measured: at least a tenth of an edge length per strength unit above 1.
     bands.min_noise_edges = std::max(0.0, params.strength - 1) * params.noise_edges_per_strength;
+    if (params.coloured_noise) bands.noise_colour = noiseColour(setup.noise, bands.band_pairs, params.colour);
     // The band shrinkage, this mode's peak memory, reads no face rings: they are made again for
     // the patch update (a fraction of a second per million faces, against ~136 bytes per vertex).
     setup.face_rings = FaceRings();

@@ -1,0 +1,185 @@
+// auto_params: runs the automatic mode (vcg_ext/auto_smooth.h), or one of its two drivers, with
+// internal parameters set on the command line, to measure parameter choices (bench/SCANNER_METHOD.md).
+// The filter itself never reads these: its defaults are the structs' defaults.
+//
+//   auto_params <in> <out.ply> [mode=auto|feature|organic] [name=value ...]
+//
+// `auto_params --list` prints the names. Prints the mode that ran and the report's figures as one
+// JSON line on stdout (the last line), the summary on stderr.
+#include "tool_mesh.h"
+
+#include <vcg_ext/auto_smooth.h>
+#include <vcg_ext/mesh_arrays.h>
+
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <map>
+#include <sstream>
+#include <string>
+
+using namespace vcg_ext;
+
+namespace {
+
+using Setter = std::function<void(double)>;
+
+std::map<std::string, Setter> registry(AutoSmoothParams &p) {
+  std::map<std::string, Setter> r;
+  auto real = [&](const std::string &name, double &x) { r[name] = [&x](double v) { x = v; }; };
+  auto integer = [&](const std::string &name, int &x) { r[name] = [&x](double v) { x = int(v); }; };
+  FeatureSmoothParams &f = p.feature;
+  OrganicSmoothParams &o = p.organic;
+  for (auto *s : {&f.strength, &o.strength}) (void)s;
+  r["strength"] = [&p](double v) { p.feature.strength = p.organic.strength = v; };
+  integer("f.prepass_pairs", f.prepass_pairs);
+  real("f.planar_extra", f.planar_extra);
+  real("f.planar_share_from", f.planar_share_from);
+  real("f.planar_share_full", f.planar_share_full);
+  real("f.planar_normal_share", f.planar_normal_share);
+  real("f.planar_vertex_share", f.planar_vertex_share);
+  integer("f.correlated_bands", f.correlated_bands);
+  real("f.clean_spread_deg", f.clean_spread_deg);
+  real("f.noisy_spread_deg", f.noisy_spread_deg);
+  r["f.bilateral"] = [&f](double v) {
+    f.normals.kind = v != 0 ? NormalFilterKind::Bilateral : NormalFilterKind::Guided;
+  };
+  real("f.sigma_s", f.normals.sigma_s);
+  real("f.sigma_r", f.normals.sigma_r);
+  integer("f.normal_iterations", f.normals.iterations);
+  integer("f.guidance_every", f.normals.guidance_every);
+  real("f.area_power", f.normals.area_power);
+  integer("f.outer_iterations", f.outer_iterations);
+  integer("f.vertex_iterations", f.vertex_iterations);
+  integer("f.patch_iterations", f.patch_iterations);
+  real("f.tangential", f.tangential);
+  integer("f.relax_rings", f.relax_rings);
+  real("f.fold_cos", f.fold_cos);
+  real("o.clean_spread_deg", o.clean_spread_deg);
+  real("o.noisy_spread_deg", o.noisy_spread_deg);
+  real("o.full_noise_roughness", o.full_noise_roughness);
+  integer("o.max_patch_updates", o.max_patch_updates);
+  real("o.lambda", o.bands.lambda);
+  real("o.mu", o.bands.mu);
+  real("o.fixed_alpha", o.bands.fixed_alpha);
+  real("o.max_alpha", o.bands.max_alpha);
+  real("o.robust_quantile", o.bands.robust_quantile);
+  r["o.coloured"] = [&o](double v) { o.coloured_noise = v != 0; };
+  real("o.max_octave_rise", o.colour.max_octave_rise);
+  real("o.max_rise", o.colour.max_rise);
+  real("o.colour_weight", o.colour.weight);
+  real("o.level_white", o.colour.level_white);
+  real("o.rise_white", o.colour.rise_white);
+  real("o.rise_coloured", o.colour.rise_coloured);
+  integer("o.robust_max_pairs", o.bands.robust_max_pairs);
+  real("o.level_coloured", o.colour.level_coloured);
+  real("o.noise_scale", o.bands.noise_scale);
+  real("o.min_noise_edges", o.bands.min_noise_edges);
+  integer("o.boundary_pairs", o.bands.boundary_pairs);
+  real("o.alpha_whole_patch_step", o.bands.alpha_whole_patch_step);
+  r["o.colour"] = [](double) {}; // a list: o.colour=c0,c1,... (energy multipliers per band)
+  integer("reference_pairs", p.reference_pairs);
+  real("feature_flat_share", p.feature_flat_share);
+  real("feature_confirmed_share", p.feature_confirmed_share);
+  return r;
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+  AutoSmoothParams params;
+  auto names = registry(params);
+  if (argc == 2 && std::string(argv[1]) == "--list") {
+    for (const auto &[name, set] : names) std::printf("%s\n", name.c_str());
+    return 0;
+  }
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: auto_params <in> <out.ply> [mode=auto|feature|organic] "
+                         "[name=value ...]  (auto_params --list)\n");
+    return 1;
+  }
+  std::string mode = "auto";
+  for (int a = 3; a < argc; ++a) {
+    const std::string arg = argv[a];
+    const size_t eq = arg.find('=');
+    const std::string name = arg.substr(0, eq);
+    if (eq == std::string::npos) {
+      std::fprintf(stderr, "auto_params: '%s' is not name=value\n", arg.c_str());
+      return 1;
+    }
+    if (name == "mode") {
+      mode = arg.substr(eq + 1);
+      continue;
+    }
+    auto it = names.find(name);
+    if (it == names.end()) {
+      std::fprintf(stderr, "auto_params: unknown parameter '%s' (auto_params --list)\n",
+                   name.c_str());
+      return 1;
+    }
+    if (name == "o.colour") {
+      std::stringstream list(arg.substr(eq + 1));
+      params.organic.bands.noise_colour.clear();
+      for (std::string x; std::getline(list, x, ',');) params.organic.bands.noise_colour.push_back(std::stod(x));
+      continue;
+    }
+    it->second(std::stod(arg.substr(eq + 1)));
+  }
+  tool_mesh::Mesh mesh;
+  if (!tool_mesh::load(mesh, argv[1], "auto_params")) return 2;
+  const MeshArrays arrays = extractArrays(mesh);
+  std::vector<Vec3> result;
+  VertexQuantities quantities;
+  const auto start = std::chrono::steady_clock::now();
+  char ran = 'C';
+  const FeatureSmoothReport *feature = nullptr;
+  const OrganicSmoothReport *organic = nullptr;
+  AutoSmoothReport a;
+  FeatureSmoothReport f;
+  OrganicSmoothReport o;
+  if (mode == "feature") {
+    f = featureSmoothMesh(arrays, params.feature, result, quantities);
+    feature = &f;
+    ran = f.amount > 0 ? 'F' : 'C';
+  } else if (mode == "organic") {
+    o = organicSmoothMesh(arrays, params.organic, result, quantities);
+    organic = &o;
+    ran = o.amount > 0 ? 'O' : 'C';
+  } else {
+    a = autoSmoothMesh(arrays, params, result, quantities);
+    if (a.decided) {
+      ran = a.chose_feature ? 'F' : 'O';
+      if (a.chose_feature) feature = &a.feature;
+      else organic = &a.organic;
+    } else {
+      feature = &a.feature;
+    }
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (result.size() != arrays.points.size()) result = arrays.points;
+  writePositions(mesh, arrays, result);
+  if (!tool_mesh::save(mesh, argv[2], "auto_params", false)) return 2;
+  const NoiseEstimate &noise = feature ? feature->noise : organic->noise;
+  std::fprintf(stderr, "mode: %c\n", ran);
+  std::printf("{\"mode\": \"%c\", \"seconds\": %.4f, \"level\": %.4f, \"roughness\": %.4f, "
+              "\"spectrum\": [",
+              ran, seconds, noise.level, feature ? feature->roughness : organic->roughness);
+  for (size_t b = 0; b < noise.spectrum.size(); ++b)
+    std::printf("%s%.4f", b ? ", " : "", noise.spectrum[b]);
+  std::printf("], \"flat_share\": %.4f, \"confirmed_share\": %.4f", a.evidence.flat_share,
+              a.evidence.confirmed_share);
+  if (organic) {
+    std::printf(", \"fine_snr\": %.3f, \"slope\": %.2f, \"coarse_snr\": %.2f", organic->bands.fine_snr, organic->bands.shape_slope, organic->bands.coarse_snr);
+    std::printf(", \"noise_edges\": %.4f, \"alpha\": %.3f, \"gains\": [", organic->bands.noise_edges,
+                organic->bands.alpha);
+    for (size_t b = 0; b < organic->bands.gains.size(); ++b)
+      std::printf("%s%.3f", b ? ", " : "", organic->bands.gains[b]);
+    std::printf("]");
+  }
+  if (feature)
+    std::printf(", \"prepass_pairs\": %d, \"normal_iterations\": %d, \"vertex_iterations\": %d",
+                feature->prepass_pairs, feature->normal_iterations, feature->vertex_iterations);
+  std::printf("}\n");
+  return 0;
+}
