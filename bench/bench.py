@@ -912,10 +912,10 @@ def write_results(path, img_rel, args, machine, cases, quality, agreement, timin
     L.append("## Summary\n")
     L.append(summary_section(lit + cg, quality, timing) + "\n")
     if any(c["name"] in GNF for c in lit):
-        L.append("## Automatic (default) mode vs published normal filtering (issue 8)\n")
+        L.append("## Automatic (default) mode vs published normal filtering\n")
         L.append(normal_filtering_section(lit, quality) + "\n")
     if timing and not args.quick:
-        L.append("## Speed targets (issue 7)\n")
+        L.append("## Speed targets\n")
         L.append("Whole meshlabserver runs (load, filter, save; for MeshLab's filters applied "
                  "several times per script on small meshes: load+save plus one application), "
                  "medians of the same interleaved run as the Speed section below.\n")
@@ -934,7 +934,7 @@ def write_results(path, img_rel, args, machine, cases, quality, agreement, timin
     L.append("- Ours: `tools/smooth_mesh` (the plugin's core, in-process, double precision) at the "
              "filter's default (the automatic mode, `placement=5`: the feature-preserving or the "
              "organic mode, chosen from the mesh), in its ring-barycentre placement (`placement=0`, "
-             "3 iterations: the paper's patch, the default before issue 8), its feature-preserving "
+             "3 iterations: the paper's patch, the first default), its feature-preserving "
              "mode (`placement=3`, face patches on guided-filtered normals) and its organic mode "
              "(`placement=4`, Taubin band shrinkage); variants: patch point "
              "placement, the paper's Newton placement with the step safeguard (1 mean edge) and "
