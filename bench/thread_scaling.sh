@@ -13,7 +13,8 @@ trap 'rm -rf "$work"' EXIT
 for r in $(seq "$rounds"); do
   for t in 1 2; do
     /usr/bin/time -o "$work/time" -f "%e %U %S %M" env OMP_NUM_THREADS=$t \
-      "$build/tools/smooth_mesh" "$mesh" "$work/out_$t.ply" >/dev/null
+      "$build/tools/smooth_mesh" "$mesh" "$work/out_$t.ply" >"$work/log" 2>&1 ||
+      { cat "$work/log"; exit 1; }
     echo "$t $(cat "$work/time")" >>"$work/runs"
   done
   cmp -s "$work/out_1.ply" "$work/out_2.ply" && echo same >>"$work/identical" ||
