@@ -81,6 +81,7 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   integer("reference_pairs", p.reference_pairs);
   real("feature_flat_share", p.feature_flat_share);
   real("feature_confirmed_share", p.feature_confirmed_share);
+  real("flat_deg", p.flat_deg);
   return r;
 }
 
