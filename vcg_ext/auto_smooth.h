@@ -68,8 +68,11 @@ inline AutoSmoothReport autoSmoothAsGiven(const MeshArrays &mesh, const AutoSmoo
                        params.reference_pairs);
           computeFaceNormals(smoothed, mesh.faces, reference_normals);
         }
+        std::vector<Vec3> centroids; // only where the flat share compares faces edges apart
+        if (flatnessStride(mesh.faces.size()) > 1)
+          computeFaceCentroids(mesh.points, mesh.faces, centroids);
         report.evidence = sharpFeatureEvidence(filtered, reference_normals, setup.face_rings,
-                                               params.crease_deg, params.confirm_deg,
+                                               centroids, params.crease_deg, params.confirm_deg,
                                                params.flat_deg);
         report.seconds_reference =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - reference_start).count();

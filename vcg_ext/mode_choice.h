@@ -6,7 +6,7 @@
 // whether it has sharp edges or not; two things tell the cases apart:
 // - planar CAD faces come out exactly flat over large areas, while a curved surface keeps bending
 //   a little across almost every edge: the share of edges whose filtered normals differ by less
-//   than flat_deg;
+//   than flat_deg (on fine meshes, of face pairs a few edges apart: flatnessStride);
 // - on a curved organic surface the filter invents creases (the staircase that costs the feature
 //   mode 20-70 % of θ there), and a plainly smoothed copy (Taubin, no range kernel) bends less
 //   across invented creases than across real ones: the share of the filtered normals' creases
@@ -15,6 +15,7 @@
 
 #include "normal_filter.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -28,12 +29,67 @@ struct SharpFeatureEvidence {
   double flat_share = 0, confirmed_share = 0;
 };
 
+// How many edges apart the faces compared for flatness lie: 1 below about 450k faces (every mesh
+// the thresholds were fitted on), then growing as the square root of the face count. A curved
+// surface bends by about (distance / radius) between two faces, and one edge is a smaller part of
+// the model the finer the mesh: compared edge by edge, a subdivided organic mesh reads as planar
+// (the bunny at 1M vertices: 0.335 flat, at 100k: 0.197). Faces a fixed fraction of the model
+// apart bend alike at any resolution; a plane does not bend at all.
+inline int flatnessStride(size_t faces, double reference_faces = 2e5) {
+  return std::max(1, int(std::lround(std::sqrt(double(faces) / reference_faces))));
+}
+
+namespace detail {
+
+// The face `stride` edges from f, leaving through f's edge slot j and then always into the
+// neighbour whose centroid is farthest from f's (ties: the lower index), a walk that goes straight
+// on; -1 when it cannot go on (a boundary).
+inline int faceAlongWalk(int f, int j, int stride, const FaceRings &face_rings,
+                         const std::vector<Vec3> &centroids) {
+  int previous = f, current = face_rings.edge_neighbours[f][j];
+  for (int step = 1; step < stride && current >= 0; ++step) {
+    int best = -1;
+    double best_distance = -1;
+    for (int g : face_rings.edge_neighbours[current]) {
+      if (g < 0 || g == previous) continue;
+      const double d = (centroids[g] - centroids[f]).squaredNorm();
+      if (d > best_distance || (d == best_distance && g < best)) best = g, best_distance = d;
+    }
+    previous = current, current = best;
+  }
+  return current;
+}
+
+// The share of walks `stride` edges long (three from every face) whose end faces' filtered
+// normals are within acos(flat_cos); integer counts, so any thread count gives the same share.
+inline double flatShareAtStride(const std::vector<Vec3> &filtered, const FaceRings &face_rings,
+                                const std::vector<Vec3> &centroids, int stride, double flat_cos) {
+  const int m = int(filtered.size());
+  long walks = 0, flat = 0;
+#pragma omp parallel for schedule(static) reduction(+ : walks, flat) if (m >= min_parallel_vertices)
+  for (int f = 0; f < m; ++f) {
+    if (filtered[f].squaredNorm() <= 0.5) continue;
+    for (int j = 0; j < 3; ++j) {
+      const int g = faceAlongWalk(f, j, stride, face_rings, centroids);
+      if (g < 0 || filtered[g].squaredNorm() <= 0.5) continue;
+      ++walks;
+      flat += filtered[f].dot(filtered[g]) > flat_cos;
+    }
+  }
+  return walks ? double(flat) / double(walks) : 0.0;
+}
+
+} // namespace detail
+
 // `filtered`: per-face unit normals after guided filtering; `smoothed`: per-face unit normals of a
 // plainly smoothed copy of the mesh. Faces with a zero normal (degenerate) are skipped. Counts each
-// interior edge once, so the result does not depend on vertex or face order.
+// interior edge once, so the result does not depend on vertex or face order. `centroids` (the
+// faces' centroids; may be empty when flatnessStride is 1): on meshes fine enough for a stride
+// above 1 the flat share compares faces that many edges apart (flatShareAtStride).
 inline SharpFeatureEvidence sharpFeatureEvidence(const std::vector<Vec3> &filtered,
                                                  const std::vector<Vec3> &smoothed,
                                                  const FaceRings &face_rings,
+                                                 const std::vector<Vec3> &centroids,
                                                  double crease_deg = 30.0,
                                                  double confirm_deg = 20.0,
                                                  double flat_deg = 1.0) {
@@ -57,6 +113,9 @@ inline SharpFeatureEvidence sharpFeatureEvidence(const std::vector<Vec3> &filter
     }
   }
   e.flat_share = e.edges ? double(e.flat_pairs) / double(e.edges) : 0.0;
+  const int stride = flatnessStride(filtered.size());
+  if (stride > 1 && centroids.size() == filtered.size())
+    e.flat_share = detail::flatShareAtStride(filtered, face_rings, centroids, stride, flat_cos);
   e.confirmed_share = e.crease_pairs ? double(e.confirmed_pairs) / double(e.crease_pairs) : 0.0;
   return e;
 }

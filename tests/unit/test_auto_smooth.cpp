@@ -43,7 +43,7 @@ TEST(SharpFeatureEvidence, BoxWithItsOwnNormalsHasOnlyFlatEdgesAndConfirmedCreas
   const int n = 6;
   const MeshArrays box = test_meshes::box(1.0, 0.8, 0.6, n);
   const std::vector<Vec3> normals = faceNormals(box);
-  const SharpFeatureEvidence e = sharpFeatureEvidence(normals, normals, faceRingsOf(box));
+  const SharpFeatureEvidence e = sharpFeatureEvidence(normals, normals, faceRingsOf(box), {});
   // Closed: every edge is shared by two faces; the box's 12 edges have n mesh edges each.
   EXPECT_EQ(e.edges, long(box.faces.size()) * 3 / 2);
   EXPECT_EQ(e.crease_pairs, 12L * n);
@@ -65,12 +65,12 @@ TEST(SharpFeatureEvidence, InventedCreasesOnASphereAreNotConfirmed) {
     staircase[f] = Vec3::Zero();
     staircase[f][axis] = exact[f][axis] > 0 ? 1 : -1;
   }
-  const SharpFeatureEvidence e = sharpFeatureEvidence(staircase, exact, faceRingsOf(sphere));
+  const SharpFeatureEvidence e = sharpFeatureEvidence(staircase, exact, faceRingsOf(sphere), {});
   EXPECT_GT(e.crease_pairs, 100);
   EXPECT_EQ(e.confirmed_pairs, 0); // neighbouring faces of the sphere differ by a few degrees
   EXPECT_GT(e.flat_share, 0.8);    // inside each of the six cells
   // The sphere's own normals: no crease, and no edge flat to 1° at this resolution.
-  const SharpFeatureEvidence own = sharpFeatureEvidence(exact, exact, faceRingsOf(sphere));
+  const SharpFeatureEvidence own = sharpFeatureEvidence(exact, exact, faceRingsOf(sphere), {});
   EXPECT_EQ(own.crease_pairs, 0);
   EXPECT_EQ(own.flat_pairs, 0);
   EXPECT_EQ(own.confirmed_share, 0.0);
@@ -80,7 +80,7 @@ TEST(SharpFeatureEvidence, DegenerateFacesAreSkipped) {
   const MeshArrays box = test_meshes::box(1.0, 1.0, 1.0, 2);
   std::vector<Vec3> normals = faceNormals(box);
   normals[0] = Vec3::Zero();
-  const SharpFeatureEvidence e = sharpFeatureEvidence(normals, faceNormals(box), faceRingsOf(box));
+  const SharpFeatureEvidence e = sharpFeatureEvidence(normals, faceNormals(box), faceRingsOf(box), {});
   EXPECT_EQ(e.edges, long(box.faces.size()) * 3 / 2 - 3);
 }
 
@@ -178,4 +178,58 @@ TEST(AutoSmooth, ProgressOnlyGrowsAndCancelStops) {
     EXPECT_TRUE(stopped.cancelled) << stop_at;
     EXPECT_EQ(calls, stop_at);
   }
+}
+
+TEST(FlatnessStride, OneUpToTheFittedSizesThenTheSquareRootOfTheFaceCount) {
+  EXPECT_EQ(flatnessStride(0), 1);
+  EXPECT_EQ(flatnessStride(100000), 1);
+  EXPECT_EQ(flatnessStride(440000), 1);  // the largest meshes the thresholds were fitted on
+  EXPECT_EQ(flatnessStride(460000), 2);
+  EXPECT_EQ(flatnessStride(2000000), 3); // a 1M-vertex mesh
+  EXPECT_EQ(flatnessStride(20000000), 10);
+}
+
+TEST(FlatnessStride, TheWalkGoesStraightOnAPlane) {
+  const MeshArrays plane =
+      test_meshes::heightField(41, -1, 1, -1, 1, [](double, double) { return 0.0; });
+  const FaceRings rings = faceRingsOf(plane);
+  std::vector<Vec3> centroids;
+  computeFaceCentroids(plane.points, plane.faces, centroids);
+  // The face nearest the middle, and the distance its walks reach: growing with every step, by
+  // at least a third of the grid spacing per step (a zigzag across a strip of triangles).
+  int middle = 0;
+  for (int f = 0; f < int(centroids.size()); ++f)
+    if (centroids[f].norm() < centroids[middle].norm()) middle = f;
+  const double spacing = 2.0 / 40;
+  for (int j = 0; j < 3; ++j) {
+    double before = 0;
+    for (int stride = 1; stride <= 12; ++stride) {
+      const int g = detail::faceAlongWalk(middle, j, stride, rings, centroids);
+      ASSERT_GE(g, 0);
+      const double d = (centroids[g] - centroids[middle]).norm();
+      EXPECT_GT(d, before);
+      EXPECT_GT(d, stride * spacing / 3);
+      before = d;
+    }
+  }
+}
+
+TEST(FlatnessStride, AFinerSphereComparedFartherApartReadsAsCurvedAsACoarseOne) {
+  // Edge by edge, a fine sphere reads as flat where a coarse one does not (1° per edge); with the
+  // walk as many edges long as the fine sphere is finer, it reads as the coarse one does.
+  const auto flat_share = [](const MeshArrays &sphere, int stride) {
+    const std::vector<Vec3> normals = faceNormals(sphere);
+    std::vector<Vec3> centroids;
+    computeFaceCentroids(sphere.points, sphere.faces, centroids);
+    return detail::flatShareAtStride(normals, faceRingsOf(sphere), centroids, stride,
+                                     std::cos(M_PI / 180.0));
+  };
+  const MeshArrays coarse = test_meshes::icosphere(1.0, 4), fine = test_meshes::icosphere(1.0, 7);
+  EXPECT_EQ(flat_share(coarse, 1), 0.0);
+  EXPECT_GT(flat_share(fine, 1), 0.5);
+  EXPECT_LT(flat_share(fine, 8), 0.01);
+  // A plane reads as flat at any stride.
+  const MeshArrays plane =
+      test_meshes::heightField(41, -1, 1, -1, 1, [](double, double) { return 0.0; });
+  EXPECT_DOUBLE_EQ(flat_share(plane, 8), 1.0);
 }
