@@ -132,9 +132,12 @@ inline MethodRun automaticMethod(const MeshArrays &mesh, const MethodParams &p,
     run.details = detail::featureDetails(r.feature);
     return run;
   }
+  const int stride = flatnessStride(mesh.faces.size());
+  const std::string flat_what =
+      stride > 1 ? formatLine("face pairs %.0f edges apart", double(stride)) : "the edges";
   const std::string why = formatLine(
-      "%.3f of the edges flat and %.3f of the creases confirmed after guided filtering",
-      r.evidence.flat_share, r.evidence.confirmed_share);
+      "%.3f of %s flat and %.3f of the creases confirmed after guided filtering",
+      r.evidence.flat_share, flat_what.c_str(), r.evidence.confirmed_share);
   if (r.chose_feature) {
     run.method = "feature-preserving";
     run.method_index = 3; // methods.h
