@@ -65,13 +65,14 @@ def make(build, name, source, levels, level, direction):
     return stem, clean, noisy
 
 
-def score(build, noisy, clean, mode):
+def score(build, noisy, clean, mode, scorer):
+    """`build`'s auto_params in `mode`, scored by `scorer`'s mesh_compare."""
     out = WORK / "out.ply"
     log = subprocess.run([str(build / "tools" / "auto_params"), str(noisy), str(out),
                           f"mode={mode}"], check=True, capture_output=True, text=True)
     fields = json.loads(next(line for line in (log.stdout + log.stderr).splitlines()
                              if line.startswith("{")))
-    quality = json.loads(subprocess.run([str(build / "tools" / "mesh_compare"), str(out),
+    quality = json.loads(subprocess.run([str(scorer / "tools" / "mesh_compare"), str(out),
                                          str(clean)], check=True, capture_output=True,
                                         text=True).stdout)
     return dict(mode=fields["mode"], flat=fields["flat_share"], theta=quality["theta_deg"],
@@ -89,9 +90,9 @@ def main():
     for name, source, levels, level, direction, kind in MESHES:
         stem, clean, noisy = make(args.build, name, source, levels, level, direction)
         vertices = int(re.search(rb"element vertex (\d+)", noisy.read_bytes()[:400]).group(1))
-        r = {m: score(args.build, noisy, clean, m) for m in ("auto", "feature", "organic")}
+        r = {m: score(args.build, noisy, clean, m, args.build) for m in ("auto", "feature", "organic")}
         if args.old:
-            r["old"] = score(args.old, noisy, clean, "auto")
+            r["old"] = score(args.old, noisy, clean, "auto", args.build)
         rows.append((stem, kind, vertices, r))
         print(stem, json.dumps(r), flush=True)
     cmd = "python3 bench/large_mode_choice.py" + (" --old OTHER_BUILD" if args.old else "")
