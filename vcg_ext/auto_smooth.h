@@ -68,12 +68,9 @@ inline AutoSmoothReport autoSmoothAsGiven(const MeshArrays &mesh, const AutoSmoo
                        params.reference_pairs);
           computeFaceNormals(smoothed, mesh.faces, reference_normals);
         }
-        std::vector<Vec3> centroids; // only where the flat share compares faces edges apart
-        if (flatnessStride(mesh.faces.size()) > 1)
-          computeFaceCentroids(mesh.points, mesh.faces, centroids);
-        report.evidence = sharpFeatureEvidence(filtered, reference_normals, setup.face_rings,
-                                               centroids, params.crease_deg, params.confirm_deg,
-                                               params.flat_deg);
+        report.evidence = modelScaleEvidence(filtered, reference_normals, setup.face_rings,
+                                             mesh.points, mesh.faces, params.crease_deg,
+                                             params.confirm_deg, params.flat_deg);
         report.seconds_reference =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - reference_start).count();
         report.decided = true;
@@ -132,9 +129,10 @@ inline MethodRun automaticMethod(const MeshArrays &mesh, const MethodParams &p,
     run.details = detail::featureDetails(r.feature);
     return run;
   }
-  const int stride = flatnessStride(mesh.faces.size());
   const std::string flat_what =
-      stride > 1 ? formatLine("face pairs %.0f edges apart", double(stride)) : "the edges";
+      r.evidence.flat_stride > 1
+          ? formatLine("face pairs %.0f edges apart", double(r.evidence.flat_stride))
+          : "the edges";
   const std::string why = formatLine(
       "%.3f of %s flat and %.3f of the creases confirmed after guided filtering",
       r.evidence.flat_share, flat_what.c_str(), r.evidence.confirmed_share);

@@ -260,9 +260,9 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
         return report.declined = true, report;
       }
       if (scale_by_flatness) {
-        // Edge by edge at any resolution (no centroids): the extra passes pay off on planes at
-        // every size, so here a flat share that grows with resolution does no harm.
-        report.flat_share = sharpFeatureEvidence(filtered, filtered, face_rings, {}).flat_share;
+        // Edge by edge, as the planar extra passes were fitted (bench/SCANNER_METHOD.md); on a
+        // fine curved mesh this reads high, but the automatic choice sends those to the organic mode.
+        report.flat_share = sharpFeatureEvidence(filtered, filtered, face_rings).flat_share;
         const double extra = params.planar_extra *
                              std::clamp((report.flat_share - params.planar_share_from) /
                                             (params.planar_share_full - params.planar_share_from),

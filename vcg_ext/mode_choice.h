@@ -27,6 +27,7 @@ struct SharpFeatureEvidence {
   long crease_pairs = 0;     // of those, filtered normals more than crease_deg apart
   long confirmed_pairs = 0;  // of the creases, smoothed-copy normals more than confirm_deg apart
   double flat_share = 0, confirmed_share = 0;
+  int flat_stride = 1;       // edges between the faces the flat share compares (flatnessStride)
 };
 
 // How many edges apart the faces compared for flatness lie: 1 below about 450k faces (every mesh
@@ -83,13 +84,11 @@ inline double flatShareAtStride(const std::vector<Vec3> &filtered, const FaceRin
 
 // `filtered`: per-face unit normals after guided filtering; `smoothed`: per-face unit normals of a
 // plainly smoothed copy of the mesh. Faces with a zero normal (degenerate) are skipped. Counts each
-// interior edge once, so the result does not depend on vertex or face order. `centroids` (the
-// faces' centroids; may be empty when flatnessStride is 1): on meshes fine enough for a stride
-// above 1 the flat share compares faces that many edges apart (flatShareAtStride).
+// interior edge once, so the result does not depend on vertex or face order. Edge by edge; the
+// automatic choice reads it through modelScaleEvidence.
 inline SharpFeatureEvidence sharpFeatureEvidence(const std::vector<Vec3> &filtered,
                                                  const std::vector<Vec3> &smoothed,
                                                  const FaceRings &face_rings,
-                                                 const std::vector<Vec3> &centroids,
                                                  double crease_deg = 30.0,
                                                  double confirm_deg = 20.0,
                                                  double flat_deg = 1.0) {
@@ -113,10 +112,28 @@ inline SharpFeatureEvidence sharpFeatureEvidence(const std::vector<Vec3> &filter
     }
   }
   e.flat_share = e.edges ? double(e.flat_pairs) / double(e.edges) : 0.0;
-  const int stride = flatnessStride(filtered.size());
-  if (stride > 1 && centroids.size() == filtered.size())
-    e.flat_share = detail::flatShareAtStride(filtered, face_rings, centroids, stride, flat_cos);
   e.confirmed_share = e.crease_pairs ? double(e.confirmed_pairs) / double(e.crease_pairs) : 0.0;
+  return e;
+}
+
+// sharpFeatureEvidence as the automatic choice reads it: on meshes fine enough for a stride above 1
+// (flatnessStride) the flat share compares faces that many edges apart instead of neighbours
+// (`points`, `faces`: the mesh whose face centroids guide the walks), and says so in flat_stride.
+inline SharpFeatureEvidence modelScaleEvidence(const std::vector<Vec3> &filtered,
+                                               const std::vector<Vec3> &smoothed,
+                                               const FaceRings &face_rings,
+                                               const std::vector<Vec3> &points,
+                                               const std::vector<Face> &faces, double crease_deg,
+                                               double confirm_deg, double flat_deg) {
+  SharpFeatureEvidence e =
+      sharpFeatureEvidence(filtered, smoothed, face_rings, crease_deg, confirm_deg, flat_deg);
+  e.flat_stride = flatnessStride(faces.size());
+  if (e.flat_stride > 1) {
+    std::vector<Vec3> centroids;
+    computeFaceCentroids(points, faces, centroids);
+    e.flat_share = detail::flatShareAtStride(filtered, face_rings, centroids, e.flat_stride,
+                                             std::cos(flat_deg * M_PI / 180.0));
+  }
   return e;
 }
 

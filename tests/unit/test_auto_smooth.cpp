@@ -43,7 +43,7 @@ TEST(SharpFeatureEvidence, BoxWithItsOwnNormalsHasOnlyFlatEdgesAndConfirmedCreas
   const int n = 6;
   const MeshArrays box = test_meshes::box(1.0, 0.8, 0.6, n);
   const std::vector<Vec3> normals = faceNormals(box);
-  const SharpFeatureEvidence e = sharpFeatureEvidence(normals, normals, faceRingsOf(box), {});
+  const SharpFeatureEvidence e = sharpFeatureEvidence(normals, normals, faceRingsOf(box));
   // Closed: every edge is shared by two faces; the box's 12 edges have n mesh edges each.
   EXPECT_EQ(e.edges, long(box.faces.size()) * 3 / 2);
   EXPECT_EQ(e.crease_pairs, 12L * n);
@@ -65,12 +65,12 @@ TEST(SharpFeatureEvidence, InventedCreasesOnASphereAreNotConfirmed) {
     staircase[f] = Vec3::Zero();
     staircase[f][axis] = exact[f][axis] > 0 ? 1 : -1;
   }
-  const SharpFeatureEvidence e = sharpFeatureEvidence(staircase, exact, faceRingsOf(sphere), {});
+  const SharpFeatureEvidence e = sharpFeatureEvidence(staircase, exact, faceRingsOf(sphere));
   EXPECT_GT(e.crease_pairs, 100);
   EXPECT_EQ(e.confirmed_pairs, 0); // neighbouring faces of the sphere differ by a few degrees
   EXPECT_GT(e.flat_share, 0.8);    // inside each of the six cells
   // The sphere's own normals: no crease, and no edge flat to 1° at this resolution.
-  const SharpFeatureEvidence own = sharpFeatureEvidence(exact, exact, faceRingsOf(sphere), {});
+  const SharpFeatureEvidence own = sharpFeatureEvidence(exact, exact, faceRingsOf(sphere));
   EXPECT_EQ(own.crease_pairs, 0);
   EXPECT_EQ(own.flat_pairs, 0);
   EXPECT_EQ(own.confirmed_share, 0.0);
@@ -80,7 +80,7 @@ TEST(SharpFeatureEvidence, DegenerateFacesAreSkipped) {
   const MeshArrays box = test_meshes::box(1.0, 1.0, 1.0, 2);
   std::vector<Vec3> normals = faceNormals(box);
   normals[0] = Vec3::Zero();
-  const SharpFeatureEvidence e = sharpFeatureEvidence(normals, faceNormals(box), faceRingsOf(box), {});
+  const SharpFeatureEvidence e = sharpFeatureEvidence(normals, faceNormals(box), faceRingsOf(box));
   EXPECT_EQ(e.edges, long(box.faces.size()) * 3 / 2 - 3);
 }
 
@@ -232,4 +232,17 @@ TEST(FlatnessStride, AFinerSphereComparedFartherApartReadsAsCurvedAsACoarseOne) 
   const MeshArrays plane =
       test_meshes::heightField(41, -1, 1, -1, 1, [](double, double) { return 0.0; });
   EXPECT_DOUBLE_EQ(flat_share(plane, 8), 1.0);
+}
+
+TEST(FlatnessStride, BelowTheStrideTheChoiceReadsTheEdgeByEdgeEvidence) {
+  const MeshArrays sphere = test_meshes::icosphere(1.0, 5);
+  const std::vector<Vec3> exact = faceNormals(sphere);
+  const FaceRings rings = faceRingsOf(sphere);
+  const SharpFeatureEvidence edges = sharpFeatureEvidence(exact, exact, rings, 30, 25, 1.0);
+  const SharpFeatureEvidence model =
+      modelScaleEvidence(exact, exact, rings, sphere.points, sphere.faces, 30, 25, 1.0);
+  EXPECT_EQ(model.flat_stride, 1);
+  EXPECT_EQ(model.flat_share, edges.flat_share);
+  EXPECT_EQ(model.flat_pairs, edges.flat_pairs);
+  EXPECT_EQ(model.confirmed_share, edges.confirmed_share);
 }
