@@ -108,9 +108,14 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
   for (int v = 0; v < n; ++v)
     mesh.points[v] = rings.ring1Size(v) > 0 ? Vec3((points[v] - lowest) / edge) : Vec3::Zero();
 
+  const double lambda = params.lambda, mu = params.mu;
+  auto smooth = [&](const std::vector<std::vector<Vec3> *> &fields, int pairs) {
+    taubinSmoothFields(fields, rings, roles.frozen, roles.boundary_neighbours, pairs, lambda, mu);
+  };
+
   // The decision: the spread before and after one pair.
   std::vector<Vec3> smoothed = mesh.points;
-  taubinSmooth(smoothed, rings, roles.frozen, roles.boundary_neighbours, 1, params.lambda, params.mu);
+  smooth({&smoothed}, 1);
   out.spread_deg = detail::spreadOf(mesh.points, faces, face_rings);
   out.smoothed_spread_deg = detail::spreadOf(smoothed, faces, face_rings);
   // A spread of a few hundredths of a degree is a flat mesh: its ratio says nothing.
@@ -124,9 +129,10 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
   const std::vector<int> &edges = params.band_pairs;
   const int bands = int(edges.size()) - 1;
   if (bands < 1) return out;
-  std::vector<Vec3> probe(n);
+  std::vector<Vec3> probe_current(n), probe_next;
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
   for (int v = 0; v < n; ++v)
-    probe[v] = detail::positionHashedGaussian(
+    probe_current[v] = detail::positionHashedGaussian(
         Vec3((mesh.points[v] * 16.0).array().floor()), 0x4e6f697365ull); // cells of 1/16 edge
   std::vector<std::uint8_t> counted(n);
   for (int v = 0; v < n; ++v)
@@ -135,40 +141,38 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
   // so that two copies of the mesh and of the probe are alive at a time, not one per band.
   std::vector<Vec3> normals;
   {
-    std::vector<Vec3> last = mesh.points;
-    taubinSmooth(last, rings, roles.frozen, roles.boundary_neighbours, std::max(0, edges[bands]),
-                 params.lambda, params.mu);
+    // The last snapshot continues the decision's pair (the same steps, in the same order).
+    std::vector<Vec3> last = edges[bands] >= 1 ? std::move(smoothed) : mesh.points;
+    smooth({&last}, edges[bands] - 1);
     computeVertexNormals(last, faces, rings, normals);
   }
   std::vector<Vec3> current = mesh.points, next;
-  std::vector<Vec3> probe_current = std::move(probe), probe_next;
-  taubinSmooth(current, rings, roles.frozen, roles.boundary_neighbours, edges[0], params.lambda,
-               params.mu);
-  taubinSmooth(probe_current, rings, roles.frozen, roles.boundary_neighbours, edges[0],
-               params.lambda, params.mu);
+  smooth({&current, &probe_current}, edges[0]);
   std::vector<double> along, noise;
   out.spectrum.assign(bands, 0.0);
   for (int b = 0; b < bands; ++b) {
     next = current;
     probe_next = probe_current;
-    const int pairs = std::max(0, edges[b + 1] - edges[b]);
-    taubinSmooth(next, rings, roles.frozen, roles.boundary_neighbours, pairs, params.lambda,
-                 params.mu);
-    taubinSmooth(probe_next, rings, roles.frozen, roles.boundary_neighbours, pairs, params.lambda,
-                 params.mu);
-    along.clear();
-    noise.clear();
+    smooth({&next, &probe_next}, edges[b + 1] - edges[b]);
+    // Per vertex in parallel (NaN: not counted), then gathered in vertex order.
+    along.assign(n, NAN);
+    noise.assign(3 * size_t(n), NAN);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
     for (int v = 0; v < n; ++v) {
       if (!counted[v] || normals[v].squaredNorm() == 0) continue;
       const double d = (current[v] - next[v]).dot(normals[v]);
       if (!std::isfinite(d)) continue;
-      along.push_back(std::abs(d));
+      along[v] = std::abs(d);
       const Vec3 p = probe_current[v] - probe_next[v];
-      for (int k = 0; k < 3; ++k) noise.push_back(std::abs(p[k]));
+      for (int k = 0; k < 3; ++k) noise[3 * size_t(v) + k] = std::abs(p[k]);
     }
+    auto is_nan = [](double x) { return std::isnan(x); };
+    along.erase(std::remove_if(along.begin(), along.end(), is_nan), along.end());
+    noise.erase(std::remove_if(noise.begin(), noise.end(), is_nan), noise.end());
     if (b == 0) out.counted_vertices = long(along.size());
     const double probe_median = detail::medianOf(noise);
     out.spectrum[b] = probe_median > 0 ? detail::medianOf(along) / probe_median : 0.0;
+    std::vector<double>().swap(noise); // freed while the next band smooths (this stage's peak)
     current.swap(next);
     probe_current.swap(probe_next);
   }

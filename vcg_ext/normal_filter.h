@@ -134,9 +134,12 @@ inline FaceRings computeFaceRings(const std::vector<Face> &faces, const Rings &r
 inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
                                       const std::vector<Face> &faces,
                                       const FaceGeometry &geometry, const FaceRings &face_rings) {
-  std::vector<double> spreads;
-  spreads.reserve(faces.size());
-  for (int f = 0; f < int(faces.size()); ++f) {
+  // Per face in parallel (NaN: a face without three usable neighbours), then gathered in face
+  // order, so the median does not depend on the thread count.
+  const int face_count = int(faces.size());
+  std::vector<double> spreads(face_count);
+#pragma omp parallel for schedule(static) if (face_count >= min_parallel_vertices)
+  for (int f = 0; f < face_count; ++f) {
     double lo = INFINITY, hi = -INFINITY;
     bool complete = geometry.normal[f].squaredNorm() > 0.5;
     for (int k = 0; k < 3 && complete; ++k) {
@@ -150,8 +153,10 @@ inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
       lo = std::min(lo, angle);
       hi = std::max(hi, angle);
     }
-    if (complete) spreads.push_back(hi - lo);
+    spreads[f] = complete ? hi - lo : NAN;
   }
+  spreads.erase(std::remove_if(spreads.begin(), spreads.end(), [](double x) { return std::isnan(x); }),
+                spreads.end());
   if (spreads.empty()) return 0.0;
   auto middle = spreads.begin() + spreads.size() / 2;
   std::nth_element(spreads.begin(), middle, spreads.end());
@@ -162,30 +167,45 @@ inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
 // `fixed[v]` != 0 stay (frozen, unselected); they still pull on their neighbours. A boundary vertex
 // is smoothed along its boundary curve only, from its two boundary neighbours (`curve[v]`, −1 where
 // absent: then it stays), so an open boundary is denoised without being pulled inward.
-inline void taubinSmooth(std::vector<Vec3> &points, const Rings &rings,
-                         const std::vector<std::uint8_t> &fixed,
-                         const std::vector<std::array<int, 2>> &curve, int pairs,
-                         double lambda = 0.5, double mu = -0.53) {
-  const int n = rings.vertex_count;
-  std::vector<Vec3> next(points);
+// taubinSmoothFields: the same steps on several fields at once (one pass over the rings for all).
+inline void taubinSmoothFields(const std::vector<std::vector<Vec3> *> &fields, const Rings &rings,
+                               const std::vector<std::uint8_t> &fixed,
+                               const std::vector<std::array<int, 2>> &curve, int pairs,
+                               double lambda = 0.5, double mu = -0.53) {
+  const int n = rings.vertex_count, count = int(fields.size());
+  if (pairs <= 0) return;
+  std::vector<std::vector<Vec3>> next(count, std::vector<Vec3>(n));
   for (int step = 0; step < 2 * pairs; ++step) {
     const double factor = step % 2 == 0 ? lambda : mu;
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
     for (int v = 0; v < n; ++v) {
-      next[v] = points[v];
-      if (fixed[v] || rings.ring1Size(v) == 0) continue;
-      Vec3 centre = Vec3::Zero();
-      if (rings.boundary[v]) {
-        if (curve[v][0] < 0 || curve[v][1] < 0) continue;
-        centre = 0.5 * (points[curve[v][0]] + points[curve[v][1]]);
-      } else {
-        for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) centre += points[*w];
-        centre /= rings.ring1Size(v);
+      const bool still = fixed[v] || rings.ring1Size(v) == 0 ||
+                         (rings.boundary[v] && (curve[v][0] < 0 || curve[v][1] < 0));
+      for (int k = 0; k < count; ++k) {
+        const std::vector<Vec3> &points = *fields[k];
+        if (still) {
+          next[k][v] = points[v];
+          continue;
+        }
+        Vec3 centre = Vec3::Zero();
+        if (rings.boundary[v]) {
+          centre = 0.5 * (points[curve[v][0]] + points[curve[v][1]]);
+        } else {
+          for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) centre += points[*w];
+          centre /= rings.ring1Size(v);
+        }
+        next[k][v] = points[v] + factor * (centre - points[v]);
       }
-      next[v] = points[v] + factor * (centre - points[v]);
     }
-    points.swap(next);
+    for (int k = 0; k < count; ++k) fields[k]->swap(next[k]);
   }
+}
+
+inline void taubinSmooth(std::vector<Vec3> &points, const Rings &rings,
+                         const std::vector<std::uint8_t> &fixed,
+                         const std::vector<std::array<int, 2>> &curve, int pairs,
+                         double lambda = 0.5, double mu = -0.53) {
+  taubinSmoothFields({&points}, rings, fixed, curve, pairs, lambda, mu);
 }
 
 enum class NormalFilterKind {
