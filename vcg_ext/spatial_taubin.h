@@ -107,6 +107,67 @@ public:
     }
   }
 
+  // outputs[k] = Σ_j c_j T_j(P) inputs[k] (Clenshaw's recurrence), where P is the 1-ring
+  // averaging of smooth()'s steps (a step with factor f is (1 − f) I + f P): with the coefficients
+  // of taubinChebyshevCoefficients, close to `pairs` smooth() pairs in fewer operator applications
+  // (taubin_chebyshev.h). Still vertices (and, with `boundary_still`, the boundary curves) keep
+  // their input values exactly. Sums are taken relative to each field's bounding-box centre, so
+  // the truncation error scales with the field's extent, not with its distance from the origin.
+  // Inputs and outputs are distinct fields in local order; each vertex's arithmetic is fixed, so the
+  // result does not depend on the thread count.
+  void applyChebyshev(const std::vector<const std::vector<Vec3> *> &inputs,
+                      const std::vector<std::vector<Vec3> *> &outputs,
+                      const std::vector<double> &c, bool boundary_still = false) const {
+    const int count = int(inputs.size()), degree = int(c.size()) - 1;
+    std::vector<std::vector<Vec3>> &scratch = next_;
+    if (int(scratch.size()) < count) scratch.resize(count);
+    std::vector<Vec3> centre(count);
+    for (int k = 0; k < count; ++k) {
+      Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+      for (const Vec3 &x : *inputs[k])
+        if (x.allFinite()) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+      centre[k] = lo.allFinite() ? Vec3(0.5 * (lo + hi)) : Vec3::Zero();
+      scratch[k].assign(n_, Vec3::Zero()); // b_{j+1}
+      outputs[k]->assign(n_, Vec3::Zero()); // b_{j+2}, then b_j in place, at last the result
+    }
+    // (P b)[l]: the mean of l's neighbours (of its curve neighbours on a boundary); b[l] if still.
+    auto average = [&](const std::vector<Vec3> &b, int l, Kind kind) {
+      const int *begin = neighbours_.data() + offsets_[l], *end = neighbours_.data() + offsets_[l + 1];
+      if (kind == Kind::Still) return b[l];
+      if (kind == Kind::Curve) return Vec3(0.5 * (b[begin[0]] + b[begin[1]]));
+      Vec3 sum = Vec3::Zero();
+      for (const int *w = begin; w != end; ++w) sum += b[*w];
+      return Vec3(sum / int(end - begin));
+    };
+    auto kind_of = [&](int l) {
+      return boundary_still && kind_[l] == Kind::Curve ? Kind::Still : kind_[l];
+    };
+    for (int j = degree; j >= 1; --j) {
+      const double cj = c[j];
+#pragma omp parallel for schedule(static) if (n_ >= min_parallel_vertices)
+      for (int l = 0; l < n_; ++l) {
+        const Kind kind = kind_of(l);
+        for (int k = 0; k < count; ++k) {
+          Vec3 &b = (*outputs[k])[l]; // b_{j+2} in, b_j out
+          b = cj * ((*inputs[k])[l] - centre[k]) + 2.0 * average(scratch[k], l, kind) - b;
+        }
+      }
+      for (int k = 0; k < count; ++k) scratch[k].swap(*outputs[k]);
+    }
+    // scratch = b_1, outputs = b_2: the result c_0 x + P b_1 − b_2, in place of b_2.
+#pragma omp parallel for schedule(static) if (n_ >= min_parallel_vertices)
+    for (int l = 0; l < n_; ++l) {
+      const Kind kind = kind_of(l);
+      for (int k = 0; k < count; ++k) {
+        const Vec3 &x = (*inputs[k])[l];
+        Vec3 &out = (*outputs[k])[l];
+        out = kind == Kind::Still
+                  ? x
+                  : Vec3(centre[k] + (c[0] * (x - centre[k]) + average(scratch[k], l, kind) - out));
+      }
+    }
+  }
+
 private:
   enum class Kind : std::uint8_t { Still, Curve, Interior };
 
