@@ -268,7 +268,20 @@ struct DriverSetup {
   bool closed = false;
   double volume_before = 0;
   NoiseEstimate noise; // the measured methods' noise estimate (noise_estimate.h)
+  double input_spread_deg = NAN; // the input's median dihedral spread, once read (inputSpreadDeg)
 };
+
+// The input's median dihedral spread (normal_filter.h), computed on first use and kept: the
+// automatic mode runs both drivers on one set-up, and both read it (a second of 2M vertices).
+inline double inputSpreadDeg(const MeshArrays &mesh, DriverSetup &setup) {
+  if (std::isnan(setup.input_spread_deg)) {
+    FaceGeometry geometry;
+    computeFaceGeometry(mesh.points, mesh.faces, geometry);
+    setup.input_spread_deg =
+        medianDihedralSpreadDeg(mesh.points, mesh.faces, geometry, setup.face_rings);
+  }
+  return setup.input_spread_deg;
+}
 
 inline DriverSetup driverSetup(const MeshArrays &mesh, bool selected_only,
                                BoundaryMode boundary = BoundaryMode::NoInward,

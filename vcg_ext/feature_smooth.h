@@ -197,8 +197,6 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
 
   std::vector<Vec3> current = mesh.points;
   t = clock::now();
-  FaceGeometry geometry;
-  computeFaceGeometry(current, mesh.faces, geometry);
   // How much smoothing the mesh needs (measuredRoughness): nothing where the noise estimate reads
   // clean (noise_estimate.h); else from the median spread of the signed dihedral angles around a
   // face, none up to `clean_spread_deg`, all from `noisy_spread_deg`, linearly in between, or
@@ -211,8 +209,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   // armadillo: 11°; clean elephant at r = 0.3: 11°), hence the estimate's clean/noisy decision
   // first: light noise and real scans' noise (spread 14-26°) are smoothed, coarse clean meshes
   // (23-31°) are not.
-  report.dihedral_spread_deg = medianDihedralSpreadDeg(current, mesh.faces, geometry, face_rings);
-  geometry = FaceGeometry(); // (the spread's only)
+  report.dihedral_spread_deg = detail::inputSpreadDeg(mesh, setup); // `current` is the input
   report.noise = setup.noise;
   report.roughness = detail::measuredRoughness(setup.noise, report.dihedral_spread_deg,
                                                params.clean_spread_deg, params.noisy_spread_deg,

@@ -95,12 +95,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   report.frozen_vertices = setup.frozen_vertices;
   report.boundary_vertices = setup.boundary_vertices;
   report.volume_before = setup.volume_before;
-  {
-    FaceGeometry geometry;
-    computeFaceGeometry(mesh.points, mesh.faces, geometry);
-    report.dihedral_spread_deg =
-        medianDihedralSpreadDeg(mesh.points, mesh.faces, geometry, setup.face_rings);
-  }
+  report.dihedral_spread_deg = detail::inputSpreadDeg(mesh, setup);
   report.noise = setup.noise;
   report.roughness = detail::measuredRoughness(setup.noise, report.dihedral_spread_deg,
                                                params.clean_spread_deg, params.noisy_spread_deg);
