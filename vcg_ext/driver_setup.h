@@ -303,6 +303,9 @@ inline DriverSetup driverSetup(const MeshArrays &mesh, bool selected_only,
   s.volume_before = signedVolume(mesh.points, mesh.faces);
   if (with_face_rings)
     s.noise = estimateNoise(mesh.points, mesh.faces, s.rings, s.face_rings, s.roles);
+  // The estimate measured the input's spread unless it stopped early (no usable edge length).
+  if (with_face_rings && s.noise.mean_edge_length > 0 && std::isfinite(s.noise.mean_edge_length))
+    s.input_spread_deg = s.noise.spread_deg;
   return s;
 }
 

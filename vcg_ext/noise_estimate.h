@@ -116,7 +116,9 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
   // The decision: the spread before and after one pair.
   std::vector<Vec3> smoothed = mesh.points;
   smooth({&smoothed}, 1);
-  out.spread_deg = detail::spreadOf(mesh.points, faces, face_rings);
+  // The input's spread on its own coordinates (angles do not scale): the drivers reuse it
+  // (inputSpreadDeg in driver_setup.h).
+  out.spread_deg = detail::spreadOf(points, faces, face_rings);
   out.smoothed_spread_deg = detail::spreadOf(smoothed, faces, face_rings);
   // A spread of a few hundredths of a degree is a flat mesh: its ratio says nothing.
   out.decay = out.spread_deg > 0.01 ? out.smoothed_spread_deg / out.spread_deg : 1.0;
