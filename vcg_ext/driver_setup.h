@@ -271,8 +271,9 @@ struct DriverSetup {
   double input_spread_deg = NAN; // the input's median dihedral spread, once read (inputSpreadDeg)
 };
 
-// The input's median dihedral spread (normal_filter.h), computed on first use and kept: the
-// automatic mode runs both drivers on one set-up, and both read it (a second of 2M vertices).
+// The input's median dihedral spread (normal_filter.h), measured once per set-up (by the noise
+// estimate, or here on first use): the automatic mode runs both drivers on one set-up, and both
+// read it (a second of 2M vertices).
 inline double inputSpreadDeg(const MeshArrays &mesh, DriverSetup &setup) {
   if (std::isnan(setup.input_spread_deg)) {
     FaceGeometry geometry;
@@ -301,11 +302,10 @@ inline DriverSetup driverSetup(const MeshArrays &mesh, bool selected_only,
     s.boundary_vertices += s.rings.boundary[v] && !s.fixed[v];
   }
   s.volume_before = signedVolume(mesh.points, mesh.faces);
-  if (with_face_rings)
+  if (with_face_rings) {
     s.noise = estimateNoise(mesh.points, mesh.faces, s.rings, s.face_rings, s.roles);
-  // The estimate measured the input's spread unless it stopped early (no usable edge length).
-  if (with_face_rings && s.noise.mean_edge_length > 0 && std::isfinite(s.noise.mean_edge_length))
-    s.input_spread_deg = s.noise.spread_deg;
+    s.input_spread_deg = s.noise.spread_deg; // (0 without faces, as inputSpreadDeg reads it)
+  }
   return s;
 }
 

@@ -95,6 +95,9 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
   NoiseEstimate out;
   const int n = int(points.size());
   if (n == 0 || faces.empty()) return out;
+  // The input's spread on its own coordinates (angles do not scale): the drivers reuse it
+  // (driver_setup.h), so it is measured before anything can stop the estimate.
+  out.spread_deg = detail::spreadOf(points, faces, face_rings);
   const double edge = edgeStatistics(points, rings).mean_edge_length;
   out.mean_edge_length = edge;
   if (!(edge > 0) || !std::isfinite(edge)) return out;
@@ -116,9 +119,6 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
   // The decision: the spread before and after one pair.
   std::vector<Vec3> smoothed = mesh.points;
   smooth({&smoothed}, 1);
-  // The input's spread on its own coordinates (angles do not scale): the drivers reuse it
-  // (inputSpreadDeg in driver_setup.h).
-  out.spread_deg = detail::spreadOf(points, faces, face_rings);
   out.smoothed_spread_deg = detail::spreadOf(smoothed, faces, face_rings);
   // A spread of a few hundredths of a degree is a flat mesh: its ratio says nothing.
   out.decay = out.spread_deg > 0.01 ? out.smoothed_spread_deg / out.spread_deg : 1.0;
@@ -168,9 +168,8 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
       const Vec3 p = probe_current[v] - probe_next[v];
       for (int k = 0; k < 3; ++k) noise[3 * size_t(v) + k] = std::abs(p[k]);
     }
-    auto is_nan = [](double x) { return std::isnan(x); };
-    along.erase(std::remove_if(along.begin(), along.end(), is_nan), along.end());
-    noise.erase(std::remove_if(noise.begin(), noise.end(), is_nan), noise.end());
+    detail::eraseNaN(along);
+    detail::eraseNaN(noise);
     if (b == 0) out.counted_vertices = long(along.size());
     const double probe_median = detail::medianOf(noise);
     out.spectrum[b] = probe_median > 0 ? detail::medianOf(along) / probe_median : 0.0;

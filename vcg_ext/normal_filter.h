@@ -131,6 +131,15 @@ inline FaceRings computeFaceRings(const std::vector<Face> &faces, const Rings &r
 // bends them at random, convex and concave. Measured: clean meshes 0 (CAD) to 31 (the coarse
 // elephant), the public benchmark's noisy meshes 52-81, noise in random directions at 0.25 mean
 // edge lengths 88-112.
+namespace detail {
+// Removes the NaN entries (the "no value" of per-element arrays filled in parallel), keeping the
+// others in order.
+inline void eraseNaN(std::vector<double> &values) {
+  values.erase(std::remove_if(values.begin(), values.end(), [](double x) { return std::isnan(x); }),
+               values.end());
+}
+} // namespace detail
+
 inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
                                       const std::vector<Face> &faces,
                                       const FaceGeometry &geometry, const FaceRings &face_rings) {
@@ -155,8 +164,7 @@ inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
     }
     spreads[f] = complete ? hi - lo : NAN;
   }
-  spreads.erase(std::remove_if(spreads.begin(), spreads.end(), [](double x) { return std::isnan(x); }),
-                spreads.end());
+  detail::eraseNaN(spreads);
   if (spreads.empty()) return 0.0;
   auto middle = spreads.begin() + spreads.size() / 2;
   std::nth_element(spreads.begin(), middle, spreads.end());
@@ -167,7 +175,8 @@ inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
 // `fixed[v]` != 0 stay (frozen, unselected); they still pull on their neighbours. A boundary vertex
 // is smoothed along its boundary curve only, from its two boundary neighbours (`curve[v]`, −1 where
 // absent: then it stays), so an open boundary is denoised without being pulled inward.
-// taubinSmoothFields: the same steps on several fields at once (one pass over the rings for all).
+// taubinSmoothFields runs the steps on several fields at once (one pass over the rings for all),
+// taubinSmooth on one.
 inline void taubinSmoothFields(const std::vector<std::vector<Vec3> *> &fields, const Rings &rings,
                                const std::vector<std::uint8_t> &fixed,
                                const std::vector<std::array<int, 2>> &curve, int pairs,

@@ -7,8 +7,8 @@
 //
 // Why: a Taubin step reads every vertex's neighbours, and on a mesh whose vertex order is spatially
 // scattered (midpoint subdivision appends new vertices; many exporters do too) nearly every read
-// misses the cache. The organic mode's band shrinkage runs 640 such steps (bench/PERFORMANCE.md:
-// 14 s of 25 s at 416k vertices). Each vertex's neighbours are summed in the order of its ring,
+// misses the cache. The organic mode's band shrinkage ran 640 such steps (bench/PERFORMANCE.md:
+// 14 s of 25 s at 416k vertices; its coarse bands now go through applyChebyshev). Each vertex's neighbours are summed in the order of its ring,
 // as taubinSmooth does, so the renumbering changes no bit of the result and the result does not
 // depend on the order chosen.
 #pragma once
@@ -84,23 +84,11 @@ public:
       const double factor = step % 2 == 0 ? lambda : mu;
 #pragma omp parallel for schedule(static) if (n_ >= min_parallel_vertices)
       for (int l = 0; l < n_; ++l) {
-        const Kind kind = boundary_still && kind_[l] == Kind::Curve ? Kind::Still : kind_[l];
-        const int *begin = neighbours_.data() + offsets_[l], *end = neighbours_.data() + offsets_[l + 1];
+        const Kind kind = kindOf(l, boundary_still);
         for (int k = 0; k < count; ++k) {
           const std::vector<Vec3> &p = *fields[k];
-          if (kind == Kind::Still) {
-            next[k][l] = p[l];
-            continue;
-          }
           // The arithmetic of taubinSmooth, operation for operation.
-          Vec3 centre = Vec3::Zero();
-          if (kind == Kind::Curve) {
-            centre = 0.5 * (p[begin[0]] + p[begin[1]]);
-          } else {
-            for (const int *w = begin; w != end; ++w) centre += p[*w];
-            centre /= int(end - begin);
-          }
-          next[k][l] = p[l] + factor * (centre - p[l]);
+          next[k][l] = kind == Kind::Still ? p[l] : Vec3(p[l] + factor * (average(p, l, kind) - p[l]));
         }
       }
       for (int k = 0; k < count; ++k) fields[k]->swap(next[k]);
@@ -130,23 +118,11 @@ public:
       scratch[k].assign(n_, Vec3::Zero()); // b_{j+1}
       outputs[k]->assign(n_, Vec3::Zero()); // b_{j+2}, then b_j in place, at last the result
     }
-    // (P b)[l]: the mean of l's neighbours (of its curve neighbours on a boundary); b[l] if still.
-    auto average = [&](const std::vector<Vec3> &b, int l, Kind kind) {
-      const int *begin = neighbours_.data() + offsets_[l], *end = neighbours_.data() + offsets_[l + 1];
-      if (kind == Kind::Still) return b[l];
-      if (kind == Kind::Curve) return Vec3(0.5 * (b[begin[0]] + b[begin[1]]));
-      Vec3 sum = Vec3::Zero();
-      for (const int *w = begin; w != end; ++w) sum += b[*w];
-      return Vec3(sum / int(end - begin));
-    };
-    auto kind_of = [&](int l) {
-      return boundary_still && kind_[l] == Kind::Curve ? Kind::Still : kind_[l];
-    };
     for (int j = degree; j >= 1; --j) {
       const double cj = c[j];
 #pragma omp parallel for schedule(static) if (n_ >= min_parallel_vertices)
       for (int l = 0; l < n_; ++l) {
-        const Kind kind = kind_of(l);
+        const Kind kind = kindOf(l, boundary_still);
         for (int k = 0; k < count; ++k) {
           Vec3 &b = (*outputs[k])[l]; // b_{j+2} in, b_j out
           b = cj * ((*inputs[k])[l] - centre[k]) + 2.0 * average(scratch[k], l, kind) - b;
@@ -157,7 +133,7 @@ public:
     // scratch = b_1, outputs = b_2: the result c_0 x + P b_1 − b_2, in place of b_2.
 #pragma omp parallel for schedule(static) if (n_ >= min_parallel_vertices)
     for (int l = 0; l < n_; ++l) {
-      const Kind kind = kind_of(l);
+      const Kind kind = kindOf(l, boundary_still);
       for (int k = 0; k < count; ++k) {
         const Vec3 &x = (*inputs[k])[l];
         Vec3 &out = (*outputs[k])[l];
@@ -170,6 +146,20 @@ public:
 
 private:
   enum class Kind : std::uint8_t { Still, Curve, Interior };
+
+  Kind kindOf(int l, bool boundary_still) const {
+    return boundary_still && kind_[l] == Kind::Curve ? Kind::Still : kind_[l];
+  }
+  // (P b)[l], the 1-ring averaging of a step: the mean of l's neighbours in its ring's order (of
+  // its two curve neighbours on a boundary); b[l] where l is still.
+  Vec3 average(const std::vector<Vec3> &b, int l, Kind kind) const {
+    const int *begin = neighbours_.data() + offsets_[l], *end = neighbours_.data() + offsets_[l + 1];
+    if (kind == Kind::Still) return b[l];
+    if (kind == Kind::Curve) return 0.5 * (b[begin[0]] + b[begin[1]]);
+    Vec3 sum = Vec3::Zero();
+    for (const int *w = begin; w != end; ++w) sum += b[*w];
+    return sum / int(end - begin);
+  }
 
   int n_;
   std::vector<int> to_global_, to_local_, offsets_, neighbours_;
