@@ -134,6 +134,33 @@ inline void addLowerOuter(Eigen::Matrix<double, 9, 9> &M, double w, const Height
   }
 }
 
+// addLowerOuter three times (w0 a0 a0ᵀ, then w1 a1 a1ᵀ, then w2 a2 a2ᵀ) in one sweep of M: each
+// entry takes the same three products in the same order, so the same bits, a third of the traffic.
+inline void addLowerOuter3(Eigen::Matrix<double, 9, 9> &M, double w0, const HeightCoefficients &a0,
+                           double w1, const HeightCoefficients &a1, double w2,
+                           const HeightCoefficients &a2) {
+  double *m = M.data();
+  const double *u = a0.data(), *v = a1.data(), *x = a2.data();
+  for (int j = 0; j < 9; ++j) {
+    const double s0 = w0 * u[j], s1 = w1 * v[j], s2 = w2 * x[j];
+    double *column = m + 9 * j;
+    int i = j;
+#ifdef __SSE2__
+    const __m128d t0 = _mm_set1_pd(s0), t1 = _mm_set1_pd(s1), t2 = _mm_set1_pd(s2);
+    for (; i + 1 < 9; i += 2) {
+      __m128d c = _mm_add_pd(_mm_loadu_pd(column + i), _mm_mul_pd(t0, _mm_loadu_pd(u + i)));
+      c = _mm_add_pd(c, _mm_mul_pd(t1, _mm_loadu_pd(v + i)));
+      _mm_storeu_pd(column + i, _mm_add_pd(c, _mm_mul_pd(t2, _mm_loadu_pd(x + i))));
+    }
+#endif
+    for (; i < 9; ++i) {
+      double c = column[i] + s0 * u[i];
+      c += s1 * v[i];
+      column[i] = c + s2 * x[i];
+    }
+  }
+}
+
 } // namespace detail
 
 namespace detail {
@@ -174,7 +201,6 @@ bool fitFacePatchAt(int f, const Vec3 &centroid, const std::vector<Vec3> &points
       corner[k] = FacePatch::basis(x[k], y[k]);
     }
     const HeightCoefficients b = (corner[0] + corner[1] + corner[2]) / 3.0;
-    detail::addLowerOuter(M, w, b);
     rhs.noalias() += (w * (z[0] + z[1] + z[2]) / 3.0) * b;
     total += w;
     const double along = m.dot(n);
@@ -188,9 +214,10 @@ bool fitFacePatchAt(int f, const Vec3 &centroid, const std::vector<Vec3> &points
       const HeightCoefficients gx = (by * d1 - ay * d2) / det, gy = (-bx * d1 + ax * d2) / det;
       // The height field whose normal is m has gradient −(m·e1, m·e2)/(m·n).
       const double ws = w * params.slope_weight;
-      detail::addLowerOuter(M, ws, gx);
-      detail::addLowerOuter(M, ws, gy);
+      detail::addLowerOuter3(M, w, b, ws, gx, ws, gy);
       rhs.noalias() += ws * (-m.dot(e1) / along) * gx + ws * (-m.dot(e2) / along) * gy;
+    } else {
+      detail::addLowerOuter(M, w, b);
     }
   }
   if (!(total > 0)) return false;

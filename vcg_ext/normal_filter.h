@@ -21,6 +21,7 @@
 #endif
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cmath>
 #include <cstdint>
 
@@ -100,17 +101,35 @@ struct FaceRings {
   bool contains(int f, int g) const { return std::binary_search(begin(f), end(f), g); }
 };
 
+namespace detail {
+// Appends the union of three ascending lists to `out`, ascending and without repeats: a vertex's
+// faces are listed in face order (rings.h), so a face's ring is a merge, not a sort.
+inline void mergeSortedUnique(const int *a, const int *a_end, const int *b, const int *b_end,
+                              const int *c, const int *c_end, std::vector<int> &out) {
+  int last = -1;
+  for (;;) {
+    int m = INT_MAX;
+    if (a != a_end) m = *a;
+    if (b != b_end && *b < m) m = *b;
+    if (c != c_end && *c < m) m = *c;
+    if (m == INT_MAX) return;
+    if (m != last) out.push_back(m), last = m;
+    a += a != a_end && *a == m;
+    b += b != b_end && *b == m;
+    c += c != c_end && *c == m;
+  }
+}
+} // namespace detail
+
 inline FaceRings computeFaceRings(const std::vector<Face> &faces, const Rings &rings) {
   FaceRings r;
   const int m = int(faces.size());
   r.edge_neighbours.assign(m, {-1, -1, -1});
   // In parallel blocks, each list exactly sized (rings.h's buildCsrInBlocks).
   detail::buildCsrInBlocks(m, r.offsets, r.faces, [&](int f, std::vector<int> &out) {
-    const size_t first = out.size();
-    for (int k = 0; k < 3; ++k)
-      out.insert(out.end(), rings.facesBegin(faces[f][k]), rings.facesEnd(faces[f][k]));
-    std::sort(out.begin() + first, out.end());
-    out.erase(std::unique(out.begin() + first, out.end()), out.end());
+    detail::mergeSortedUnique(rings.facesBegin(faces[f][0]), rings.facesEnd(faces[f][0]),
+                              rings.facesBegin(faces[f][1]), rings.facesEnd(faces[f][1]),
+                              rings.facesBegin(faces[f][2]), rings.facesEnd(faces[f][2]), out);
     for (int k = 0; k < 3; ++k) {
       const int a = faces[f][k], b = faces[f][(k + 1) % 3];
       for (const int *g = rings.facesBegin(a); g != rings.facesEnd(a); ++g) {
