@@ -59,10 +59,15 @@ inline AutoSmoothReport autoSmoothAsGiven(const MeshArrays &mesh, const AutoSmoo
   // Both drivers report 0-99 %; the feature mode's first pass is the first part of either path.
   report.feature = featureSmoothAsGiven(
       mesh, params.feature, out_points, quantities, progress,
-      [&](const std::vector<Vec3> &filtered, const detail::DriverSetup &) {
+      [&](const std::vector<Vec3> &filtered, const std::vector<Vec3> &prepassed,
+          int prepass_pairs, const detail::DriverSetup &) {
         const auto reference_start = std::chrono::steady_clock::now();
         std::vector<Vec3> reference_normals;
-        {
+        if (prepass_pairs == params.reference_pairs) {
+          // The pre-pass ran the same pairs on the same input (at full roughness and strength):
+          // its positions are the reference, bit for bit.
+          computeFaceNormals(prepassed, mesh.faces, reference_normals);
+        } else {
           std::vector<Vec3> smoothed = mesh.points;
           taubinSmooth(smoothed, setup.rings, setup.fixed, setup.roles.boundary_neighbours,
                        params.reference_pairs);

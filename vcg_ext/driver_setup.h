@@ -276,10 +276,7 @@ struct DriverSetup {
 // read it (a second of 2M vertices).
 inline double inputSpreadDeg(const MeshArrays &mesh, DriverSetup &setup) {
   if (std::isnan(setup.input_spread_deg)) {
-    FaceGeometry geometry;
-    computeFaceGeometry(mesh.points, mesh.faces, geometry);
-    setup.input_spread_deg =
-        medianDihedralSpreadDeg(mesh.points, mesh.faces, geometry, setup.face_rings);
+    setup.input_spread_deg = detail::spreadOf(mesh.points, mesh.faces, setup.face_rings);
   }
   return setup.input_spread_deg;
 }

@@ -146,12 +146,14 @@ inline Eigen::Matrix3d unpackSymmetric(const SymmetricMatrix3 &s) {
 // `given_setup` (optional): the topology and roles of `mesh` with the same selected_only, when the
 // caller has them already (the automatic mode shares them between both drivers). A driver that
 // finishes releases the set-up's face rings (the result quantities do not need them).
-// `first_pass_check` (optional) sees the first pass's face normals after the first guidance period of the normal filter (4
-// iterations), before any vertex moves; false stops the driver (report.declined, out_points
-// untouched). The automatic mode decides with it (auto_smooth.h)
+// `first_pass_check` (optional) sees the first pass's face normals after the first guidance
+// period of the normal filter (4 iterations), before any vertex moves, with the positions they
+// were filtered on (the input after `prepass_pairs` Taubin pairs); false stops the driver
+// (report.declined, out_points untouched). The automatic mode decides with it (auto_smooth.h)
 // without paying for the filtering twice.
-using FilteredNormalsCheck = std::function<bool(const std::vector<Vec3> &filtered_normals,
-                                                const detail::DriverSetup &setup)>;
+using FilteredNormalsCheck = std::function<bool(
+    const std::vector<Vec3> &filtered_normals, const std::vector<Vec3> &prepassed_positions,
+    int prepass_pairs, const detail::DriverSetup &setup)>;
 
 namespace detail {
 
@@ -252,7 +254,8 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
       NormalFilterParams first = normal_filter;
       first.iterations = check_iterations;
       filterNormalsInPlace(current, mesh.faces, face_rings, first, edge, filtered);
-      if (first_pass_check && !first_pass_check(filtered, setup)) {
+      if (first_pass_check &&
+          !first_pass_check(filtered, current, report.prepass_pairs, setup)) {
         report.seconds_normals += seconds(t);
         return report.declined = true, report;
       }

@@ -97,20 +97,24 @@ inline SharpFeatureEvidence sharpFeatureEvidence(const std::vector<Vec3> &filter
   const double confirm_cos = std::cos(confirm_deg * M_PI / 180.0);
   const double flat_cos = std::cos(flat_deg * M_PI / 180.0);
   const int m = int(filtered.size());
+  long edges = 0, flat = 0, creases = 0, confirmed = 0; // integer counts: any thread count
+#pragma omp parallel for schedule(static) reduction(+ : edges, flat, creases, confirmed) \
+    if (m >= min_parallel_vertices)
   for (int f = 0; f < m; ++f) {
     for (int g : face_rings.edge_neighbours[f]) {
       if (g <= f) continue; // each edge once; −1 (boundary) too
       const bool valid = filtered[f].squaredNorm() > 0.5 && filtered[g].squaredNorm() > 0.5 &&
                          smoothed[f].squaredNorm() > 0.5 && smoothed[g].squaredNorm() > 0.5;
       if (!valid) continue;
-      ++e.edges;
+      ++edges;
       const double c = filtered[f].dot(filtered[g]);
-      e.flat_pairs += c > flat_cos;
+      flat += c > flat_cos;
       if (c >= crease_cos) continue;
-      ++e.crease_pairs;
-      e.confirmed_pairs += smoothed[f].dot(smoothed[g]) < confirm_cos;
+      ++creases;
+      confirmed += smoothed[f].dot(smoothed[g]) < confirm_cos;
     }
   }
+  e.edges = edges, e.flat_pairs = flat, e.crease_pairs = creases, e.confirmed_pairs = confirmed;
   e.flat_share = e.edges ? double(e.flat_pairs) / double(e.edges) : 0.0;
   e.confirmed_share = e.crease_pairs ? double(e.confirmed_pairs) / double(e.crease_pairs) : 0.0;
   return e;

@@ -79,9 +79,9 @@ inline double medianOf(std::vector<double> &values) {
 // Median dihedral spread of `points` (a FaceRings built once, shared by the calls).
 inline double spreadOf(const std::vector<Vec3> &points, const std::vector<Face> &faces,
                        const FaceRings &face_rings) {
-  FaceGeometry geometry;
-  computeFaceGeometry(points, faces, geometry);
-  return medianDihedralSpreadDeg(points, faces, geometry, face_rings);
+  std::vector<Vec3> normals;
+  computeFaceNormals(points, faces, normals);
+  return medianDihedralSpreadDeg(points, faces, normals, face_rings);
 }
 
 } // namespace detail

@@ -161,7 +161,8 @@ inline void eraseNaN(std::vector<double> &values) {
 
 inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
                                       const std::vector<Face> &faces,
-                                      const FaceGeometry &geometry, const FaceRings &face_rings) {
+                                      const std::vector<Vec3> &face_normals,
+                                      const FaceRings &face_rings) {
   // Per face in parallel (NaN: a face without three usable neighbours), then gathered in face
   // order, so the median does not depend on the thread count.
   const int face_count = int(faces.size());
@@ -169,14 +170,14 @@ inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
 #pragma omp parallel for schedule(static) if (face_count >= min_parallel_vertices)
   for (int f = 0; f < face_count; ++f) {
     double lo = INFINITY, hi = -INFINITY;
-    bool complete = geometry.normal[f].squaredNorm() > 0.5;
+    bool complete = face_normals[f].squaredNorm() > 0.5;
     for (int k = 0; k < 3 && complete; ++k) {
       const int g = face_rings.edge_neighbours[f][k];
-      complete = g >= 0 && geometry.normal[g].squaredNorm() > 0.5;
+      complete = g >= 0 && face_normals[g].squaredNorm() > 0.5;
       if (!complete) break;
       // Positive where the surface turns away from f's normal across the edge (convex).
       const Vec3 edge = (points[faces[f][(k + 1) % 3]] - points[faces[f][k]]).normalized();
-      const Vec3 &a = geometry.normal[f], &b = geometry.normal[g];
+      const Vec3 &a = face_normals[f], &b = face_normals[g];
       const double angle = std::atan2(a.cross(b).dot(edge), a.dot(b)) * 180.0 / M_PI;
       lo = std::min(lo, angle);
       hi = std::max(hi, angle);

@@ -56,7 +56,7 @@ TEST(NormalFilter, DihedralSpreadSeparatesCurvatureFromNoise) {
     FaceGeometry g;
     computeFaceGeometry(m.points, m.faces, g);
     return medianDihedralSpreadDeg(
-        m.points, m.faces, g, computeFaceRings(m.faces, computeRings(int(m.points.size()), m.faces)));
+        m.points, m.faces, g.normal, computeFaceRings(m.faces, computeRings(int(m.points.size()), m.faces)));
   };
   EXPECT_NEAR(spread(test_meshes::box(1, 1, 1, 8)), 0.0, 1e-9);
   // A coarse sphere bends every edge by ~9 degrees, all alike: the spread stays small.
