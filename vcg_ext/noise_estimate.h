@@ -127,54 +127,75 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
                out.spread_deg - out.smoothed_spread_deg >= params.min_drop_deg);
 
   // The spectrum: the mesh's Taubin bands along the normals of its last snapshot, against a
-  // hashed white-noise probe (unit std per component) through the same steps.
+  // hashed white-noise probe (unit std per component) through the same steps. The mesh runs
+  // first, snapshot by snapshot (each continues the one before, the decision's pair the first),
+  // so that its band displacements can be read along the last one's normals; then the probe,
+  // band by band (it needs no normals). Each field runs its pairs once.
   const std::vector<int> &edges = params.band_pairs;
   const int bands = int(edges.size()) - 1;
   if (bands < 1) return out;
+  std::vector<std::vector<Vec3>> snapshot(bands + 1); // empty: 0 pairs, the mesh itself
+  for (int b = 0; b <= bands; ++b) {
+    if (edges[b] <= 0) continue;
+    const bool after_decision = b == 0 || edges[b - 1] <= 0;
+    snapshot[b] = after_decision ? smoothed : snapshot[b - 1];
+    smooth({&snapshot[b]}, edges[b] - (after_decision ? 1 : edges[b - 1]));
+  }
+  std::vector<Vec3>().swap(smoothed);
+  auto at = [&](int b) -> const std::vector<Vec3> & {
+    return snapshot[b].empty() ? mesh.points : snapshot[b];
+  };
+  std::vector<Vec3> normals;
+  computeVertexNormals(at(bands), faces, rings, normals);
+  std::vector<std::uint8_t> counted(n);
+  for (int v = 0; v < n; ++v)
+    counted[v] = !roles.frozen[v] && !rings.boundary[v] && rings.ring1Size(v) > 0 &&
+                 normals[v].squaredNorm() != 0;
+  // Per band: the median displacement along the normals, and which vertices it counted (a
+  // non-finite displacement is left out of the probe's median too).
+  std::vector<double> along, along_median(bands, 0.0);
+  std::vector<std::vector<std::uint8_t>> used(bands, std::vector<std::uint8_t>(n, 0));
+  for (int b = 0; b < bands; ++b) {
+    const std::vector<Vec3> &current = at(b), &next = at(b + 1);
+    along.assign(n, NAN);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+    for (int v = 0; v < n; ++v) {
+      if (!counted[v]) continue;
+      const double d = (current[v] - next[v]).dot(normals[v]);
+      if (!std::isfinite(d)) continue;
+      along[v] = std::abs(d);
+      used[b][v] = 1;
+    }
+    detail::eraseNaN(along);
+    if (b == 0) out.counted_vertices = long(along.size());
+    along_median[b] = detail::medianOf(along);
+    std::vector<Vec3>().swap(snapshot[b]); // read for the last time
+  }
+  std::vector<double>().swap(along);
+  snapshot.clear();
+  std::vector<Vec3>().swap(normals);
+
   std::vector<Vec3> probe_current(n), probe_next;
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
   for (int v = 0; v < n; ++v)
     probe_current[v] = detail::positionHashedGaussian(
         Vec3((mesh.points[v] * 16.0).array().floor()), 0x4e6f697365ull); // cells of 1/16 edge
-  std::vector<std::uint8_t> counted(n);
-  for (int v = 0; v < n; ++v)
-    counted[v] = !roles.frozen[v] && !rings.boundary[v] && rings.ring1Size(v) > 0;
-  // Band displacements are taken along the normals of the last band's snapshot; snapshots roll,
-  // so that two copies of the mesh and of the probe are alive at a time, not one per band.
-  std::vector<Vec3> normals;
-  {
-    // The last snapshot continues the decision's pair (the same steps, in the same order).
-    std::vector<Vec3> last = edges[bands] >= 1 ? std::move(smoothed) : mesh.points;
-    smooth({&last}, edges[bands] - 1);
-    computeVertexNormals(last, faces, rings, normals);
-  }
-  std::vector<Vec3> current = mesh.points, next;
-  smooth({&current, &probe_current}, edges[0]);
-  std::vector<double> along, noise;
+  smooth({&probe_current}, edges[0]);
+  std::vector<double> noise;
   out.spectrum.assign(bands, 0.0);
   for (int b = 0; b < bands; ++b) {
-    next = current;
     probe_next = probe_current;
-    smooth({&next, &probe_next}, edges[b + 1] - edges[b]);
-    // Per vertex in parallel (NaN: not counted), then gathered in vertex order.
-    along.assign(n, NAN);
+    smooth({&probe_next}, edges[b + 1] - edges[b]);
     noise.assign(3 * size_t(n), NAN);
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
     for (int v = 0; v < n; ++v) {
-      if (!counted[v] || normals[v].squaredNorm() == 0) continue;
-      const double d = (current[v] - next[v]).dot(normals[v]);
-      if (!std::isfinite(d)) continue;
-      along[v] = std::abs(d);
+      if (!used[b][v]) continue;
       const Vec3 p = probe_current[v] - probe_next[v];
       for (int k = 0; k < 3; ++k) noise[3 * size_t(v) + k] = std::abs(p[k]);
     }
-    detail::eraseNaN(along);
     detail::eraseNaN(noise);
-    if (b == 0) out.counted_vertices = long(along.size());
     const double probe_median = detail::medianOf(noise);
-    out.spectrum[b] = probe_median > 0 ? detail::medianOf(along) / probe_median : 0.0;
-    std::vector<double>().swap(noise); // freed while the next band smooths (this stage's peak)
-    current.swap(next);
+    out.spectrum[b] = probe_median > 0 ? along_median[b] / probe_median : 0.0;
     probe_current.swap(probe_next);
   }
   out.level = out.spectrum[0];
