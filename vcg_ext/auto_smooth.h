@@ -9,6 +9,7 @@
 // modified, the result does not depend on vertex order or thread count, progress can cancel.
 #pragma once
 
+#include "evidence_windows.h"
 #include "feature_smooth.h"
 #include "mode_choice.h"
 #include "organic_smooth.h"
@@ -29,6 +30,12 @@ struct AutoSmoothParams {
   // with planar faces (Block); confirmed share up to 0.78 where the organic mode wins, 0.81-0.84
   // on SharpSphere.
   double feature_flat_share = 0.235, feature_confirmed_share = 0.785;
+  // Large meshes: the evidence is first taken on windows of the mesh (evidence_windows.h); when
+  // its shares are clear of their thresholds, by at least `window_margin` and `window_errors`
+  // standard errors of the sample, the choice is made on it and only the chosen mode runs, else
+  // the evidence is taken on the whole mesh as above.
+  EvidenceWindowParams windows;
+  double window_margin = 0.02, window_errors = 3.0;
 };
 
 struct AutoSmoothReport {
@@ -39,9 +46,48 @@ struct AutoSmoothReport {
   FeatureSmoothReport feature;   // the feature mode's report (declined when it was not chosen)
   OrganicSmoothReport organic;   // the organic mode's report, when it was chosen
   double seconds_setup = 0, seconds_reference = 0; // shared topology; the Taubin copy and evidence
+  bool windowed = false;        // decided on windows of the mesh (evidence_windows.h)
+  long window_faces = 0;        // the faces the windows held
+  double seconds_windows = 0;   // the windows' evidence (also when it was not clear enough)
 };
 
 namespace detail {
+
+// The choice on windows of the mesh when their evidence is clear (AutoSmoothParams::windows):
+// true when it decided (report.windowed, report.evidence, report.chose_feature).
+inline bool decideOnWindows(const MeshArrays &mesh, const AutoSmoothParams &params,
+                            DriverSetup &setup, AutoSmoothReport &report) {
+  const FeaturePassCounts counts = featurePassCounts(mesh, params.feature, setup);
+  // A mesh that measures as clean, or a filter asked for no iterations: the usual path says so.
+  if (params.windows.max_windows <= 0 || counts.normal_iterations <= 0 ||
+      !(setup.stats.mean_edge_length > 0))
+    return false;
+  const auto start = std::chrono::steady_clock::now();
+  FirstPassCounts first;
+  first.prepass_pairs = counts.prepass_pairs;
+  first.reference_pairs = params.reference_pairs;
+  first.first = params.feature.normals;
+  first.first.iterations = counts.checkIterations(params.feature);
+  const WindowedEvidence w = windowedEvidence(mesh, setup, first, params.crease_deg,
+                                              params.confirm_deg, params.flat_deg, params.windows);
+  report.seconds_windows =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!w.used) return false;
+  const SharpFeatureEvidence &e = w.evidence;
+  const double flat_margin = std::max(params.window_margin, params.window_errors * w.flat_error),
+               confirmed_margin =
+                   std::max(params.window_margin, params.window_errors * w.confirmed_error);
+  const bool feature = e.flat_share >= params.feature_flat_share + flat_margin ||
+                       e.confirmed_share >= params.feature_confirmed_share + confirmed_margin;
+  const bool organic = e.flat_share < params.feature_flat_share - flat_margin &&
+                       e.confirmed_share < params.feature_confirmed_share - confirmed_margin;
+  if (!feature && !organic) return false;
+  report.decided = report.windowed = true;
+  report.chose_feature = feature;
+  report.evidence = e;
+  report.window_faces = w.window_faces;
+  return true;
+}
 
 inline AutoSmoothReport autoSmoothAsGiven(const MeshArrays &mesh, const AutoSmoothParams &params,
                                           std::vector<Vec3> &out_points,
@@ -56,6 +102,18 @@ inline AutoSmoothReport autoSmoothAsGiven(const MeshArrays &mesh, const AutoSmoo
   OrganicSmoothParams organic_params = params.organic;
   organic_params.selected_only = selected_only; // one set-up serves both drivers
   organic_params.boundary = params.feature.boundary;
+  if (decideOnWindows(mesh, params, setup, report)) {
+    if (report.chose_feature) {
+      report.feature = featureSmoothAsGiven(mesh, params.feature, out_points, quantities, progress,
+                                            nullptr, &setup);
+      report.cancelled = report.feature.cancelled;
+    } else {
+      report.organic = organicSmoothAsGiven(mesh, organic_params, out_points, quantities, progress,
+                                            &setup);
+      report.cancelled = report.organic.cancelled;
+    }
+    return report;
+  }
   // Both drivers report 0-99 %; the feature mode's first pass is the first part of either path.
   report.feature = featureSmoothAsGiven(
       mesh, params.feature, out_points, quantities, progress,
@@ -138,9 +196,19 @@ inline MethodRun automaticMethod(const MeshArrays &mesh, const MethodParams &p,
       r.evidence.flat_stride > 1
           ? formatLine("face pairs %.0f edges apart", double(r.evidence.flat_stride))
           : "the edges";
+  const std::string sample =
+      r.windowed ? formatLine(", on windows holding %.0f %% of the faces",
+                              100.0 * double(r.window_faces) / double(mesh.faces.size()))
+                 : std::string();
   const std::string why = formatLine(
-      "%.3f of %s flat and %.3f of the creases confirmed after guided filtering",
-      r.evidence.flat_share, flat_what.c_str(), r.evidence.confirmed_share);
+      "%.3f of %s flat and %.3f of the creases confirmed after guided filtering%s",
+      r.evidence.flat_share, flat_what.c_str(), r.evidence.confirmed_share, sample.c_str());
+  // The decision's own time: on windows, or the feature mode's first pass on the whole mesh.
+  const std::string decision_time =
+      r.windowed ? formatLine("Time of the decision: shared topology %.3f s, evidence on windows "
+                              "%.3f s.",
+                              r.seconds_setup, r.seconds_windows)
+                 : std::string();
   if (r.chose_feature) {
     run.method = "feature-preserving";
     run.method_index = 3; // methods.h
@@ -149,9 +217,10 @@ inline MethodRun automaticMethod(const MeshArrays &mesh, const MethodParams &p,
     run.summary = "Automatic (sharp features: " + why + ") -> " +
                   detail::featureSummary(r.feature, params.feature, run, mesh.points.size());
     run.details = detail::featureDetails(r.feature);
-    run.details.push_back(formatLine("Time of the decision: shared topology %.3f s, Taubin copy "
-                                     "and evidence %.3f s.",
-                                     r.seconds_setup, r.seconds_reference));
+    run.details.push_back(r.windowed ? decision_time
+                                     : formatLine("Time of the decision: shared topology %.3f s, "
+                                                  "Taubin copy and evidence %.3f s.",
+                                                  r.seconds_setup, r.seconds_reference));
   } else {
     run.method = "organic";
     run.method_index = 4; // methods.h
@@ -160,12 +229,14 @@ inline MethodRun automaticMethod(const MeshArrays &mesh, const MethodParams &p,
     run.summary = "Automatic (no sharp features: " + why + ") -> " +
                   detail::organicSummary(r.organic, params.organic, run, mesh.points.size());
     run.details = detail::organicDetails(r.organic);
-    run.details.push_back(formatLine("Time of the decision: shared topology %.3f s, the feature "
-                                     "mode's pre-pass and first normal filter iterations %.3f s, "
-                                     "Taubin copy and evidence %.3f s.",
-                                     r.seconds_setup,
-                                     r.feature.seconds_prepass + r.feature.seconds_normals,
-                                     r.seconds_reference));
+    run.details.push_back(
+        r.windowed ? decision_time
+                   : formatLine("Time of the decision: shared topology %.3f s, the feature mode's "
+                                "pre-pass and first normal filter iterations %.3f s, Taubin copy "
+                                "and evidence %.3f s.",
+                                r.seconds_setup,
+                                r.feature.seconds_prepass + r.feature.seconds_normals,
+                                r.seconds_reference));
   }
   return run;
 }

@@ -155,6 +155,35 @@ using FilteredNormalsCheck = std::function<bool(
     const std::vector<Vec3> &filtered_normals, const std::vector<Vec3> &prepassed_positions,
     int prepass_pairs, const detail::DriverSetup &setup)>;
 
+// The feature mode's pass counts on a mesh: its measured roughness (measuredRoughness) with the
+// user's strength scales the pre-pass, the normal filter and the vertex updates.
+struct FeaturePassCounts {
+  double spread_deg = 0, roughness = 0, amount = 0;
+  int prepass_pairs = 0, normal_iterations = 0, vertex_iterations = 0;
+  // The normal filter iterations before the first pass's check: its first guidance period.
+  int checkIterations(const FeatureSmoothParams &params) const {
+    return std::min(normal_iterations, std::max(1, params.normals.guidance_every));
+  }
+};
+
+namespace detail {
+
+inline FeaturePassCounts featurePassCounts(const MeshArrays &mesh, const FeatureSmoothParams &params,
+                                           DriverSetup &setup) {
+  FeaturePassCounts c;
+  c.spread_deg = inputSpreadDeg(mesh, setup);
+  c.roughness = measuredRoughness(setup.noise, c.spread_deg, params.clean_spread_deg,
+                                  params.noisy_spread_deg, params.correlated_bands);
+  c.amount = strengthen(c.roughness, params.strength);
+  auto scaled = [&](int count) { return int(std::lround(c.amount * std::max(0, count))); };
+  c.prepass_pairs = scaled(params.prepass_pairs);
+  c.normal_iterations = scaled(params.normals.iterations);
+  c.vertex_iterations = scaled(params.vertex_iterations);
+  return c;
+}
+
+} // namespace detail
+
 namespace detail {
 
 // The driver on `mesh` as given (featureSmoothMesh runs it in spatial order).
@@ -211,17 +240,16 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   // armadillo: 11°; clean elephant at r = 0.3: 11°), hence the estimate's clean/noisy decision
   // first: light noise and real scans' noise (spread 14-26°) are smoothed, coarse clean meshes
   // (23-31°) are not.
-  report.dihedral_spread_deg = detail::inputSpreadDeg(mesh, setup); // `current` is the input
+  const FeaturePassCounts counts = featurePassCounts(mesh, params, setup);
+  report.dihedral_spread_deg = counts.spread_deg;
   report.noise = setup.noise;
-  report.roughness = detail::measuredRoughness(setup.noise, report.dihedral_spread_deg,
-                                               params.clean_spread_deg, params.noisy_spread_deg,
-                                               params.correlated_bands);
-  report.amount = detail::strengthen(report.roughness, params.strength);
-  report.prepass_pairs = int(std::lround(report.amount * std::max(0, params.prepass_pairs)));
+  report.roughness = counts.roughness;
+  report.amount = counts.amount;
+  report.prepass_pairs = counts.prepass_pairs;
   NormalFilterParams normal_filter = params.normals;
-  normal_filter.iterations = int(std::lround(report.amount * std::max(0, params.normals.iterations)));
+  normal_filter.iterations = counts.normal_iterations;
   report.normal_iterations = normal_filter.iterations;
-  int vertex_iterations = int(std::lround(report.amount * std::max(0, params.vertex_iterations)));
+  int vertex_iterations = counts.vertex_iterations;
   report.vertex_iterations = vertex_iterations;
   if (edge > 0) taubinSmooth(current, rings, fixed, roles.boundary_neighbours, report.prepass_pairs);
   report.seconds_prepass = seconds(t);
@@ -247,9 +275,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
     // gives the same normals as one call).
     const bool scale_by_flatness = params.planar_extra > 0;
     const int check_iterations =
-        pass == 0 && (first_pass_check || scale_by_flatness)
-            ? std::min(normal_filter.iterations, std::max(1, normal_filter.guidance_every))
-            : 0;
+        pass == 0 && (first_pass_check || scale_by_flatness) ? counts.checkIterations(params) : 0;
     if (check_iterations > 0) {
       NormalFilterParams first = normal_filter;
       first.iterations = check_iterations;

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace vcg_ext {
@@ -61,20 +62,32 @@ inline int faceAlongWalk(int f, int j, int stride, const FaceRings &face_rings,
   return current;
 }
 
+// The walk from f through its edge slot j (faceAlongWalk): −1 when it does not count (a zero
+// normal or a boundary on the way), else whether its end face's filtered normal is within
+// acos(flat_cos) of f's.
+inline int flatWalk(int f, int j, const std::vector<Vec3> &filtered, const FaceRings &face_rings,
+                    const std::vector<Vec3> &centroids, int stride, double flat_cos) {
+  if (filtered[f].squaredNorm() <= 0.5) return -1;
+  const int g = faceAlongWalk(f, j, stride, face_rings, centroids);
+  if (g < 0 || filtered[g].squaredNorm() <= 0.5) return -1;
+  return filtered[f].dot(filtered[g]) > flat_cos;
+}
+
 // The share of walks `stride` edges long (three from every face) whose end faces' filtered
 // normals are within acos(flat_cos); integer counts, so any thread count gives the same share.
+// `counted` (optional): the faces the walks start from.
 inline double flatShareAtStride(const std::vector<Vec3> &filtered, const FaceRings &face_rings,
-                                const std::vector<Vec3> &centroids, int stride, double flat_cos) {
+                                const std::vector<Vec3> &centroids, int stride, double flat_cos,
+                                const std::vector<std::uint8_t> *counted = nullptr) {
   const int m = int(filtered.size());
   long walks = 0, flat = 0;
 #pragma omp parallel for schedule(static) reduction(+ : walks, flat) if (m >= min_parallel_vertices)
   for (int f = 0; f < m; ++f) {
-    if (filtered[f].squaredNorm() <= 0.5) continue;
+    if (counted && !(*counted)[f]) continue;
     for (int j = 0; j < 3; ++j) {
-      const int g = faceAlongWalk(f, j, stride, face_rings, centroids);
-      if (g < 0 || filtered[g].squaredNorm() <= 0.5) continue;
-      ++walks;
-      flat += filtered[f].dot(filtered[g]) > flat_cos;
+      const int w = flatWalk(f, j, filtered, face_rings, centroids, stride, flat_cos);
+      walks += w >= 0;
+      flat += w > 0;
     }
   }
   return walks ? double(flat) / double(walks) : 0.0;
@@ -82,16 +95,37 @@ inline double flatShareAtStride(const std::vector<Vec3> &filtered, const FaceRin
 
 } // namespace detail
 
+namespace detail {
+// What the edge between faces f and g counts for in SharpFeatureEvidence: nothing (a degenerate
+// normal), an edge, a flat one, a crease, a confirmed crease (flags kEdge | kFlat | kCrease |
+// kConfirmed).
+enum : int { kEdge = 1, kFlat = 2, kCrease = 4, kConfirmed = 8 };
+inline int edgeEvidence(int f, int g, const std::vector<Vec3> &filtered,
+                        const std::vector<Vec3> &smoothed, double crease_cos, double confirm_cos,
+                        double flat_cos) {
+  const bool valid = filtered[f].squaredNorm() > 0.5 && filtered[g].squaredNorm() > 0.5 &&
+                     smoothed[f].squaredNorm() > 0.5 && smoothed[g].squaredNorm() > 0.5;
+  if (!valid) return 0;
+  const double c = filtered[f].dot(filtered[g]);
+  int flags = kEdge | (c > flat_cos ? kFlat : 0);
+  if (c < crease_cos)
+    flags |= kCrease | (smoothed[f].dot(smoothed[g]) < confirm_cos ? kConfirmed : 0);
+  return flags;
+}
+} // namespace detail
+
 // `filtered`: per-face unit normals after guided filtering; `smoothed`: per-face unit normals of a
 // plainly smoothed copy of the mesh. Faces with a zero normal (degenerate) are skipped. Counts each
 // interior edge once, so the result does not depend on vertex or face order. Edge by edge; the
-// automatic choice reads it through modelScaleEvidence.
+// automatic choice reads it through modelScaleEvidence. `counted` (optional): only the edges
+// between two of these faces count.
 inline SharpFeatureEvidence sharpFeatureEvidence(const std::vector<Vec3> &filtered,
                                                  const std::vector<Vec3> &smoothed,
                                                  const FaceRings &face_rings,
                                                  double crease_deg = 30.0,
                                                  double confirm_deg = 20.0,
-                                                 double flat_deg = 1.0) {
+                                                 double flat_deg = 1.0,
+                                                 const std::vector<std::uint8_t> *counted = nullptr) {
   SharpFeatureEvidence e;
   const double crease_cos = std::cos(crease_deg * M_PI / 180.0);
   const double confirm_cos = std::cos(confirm_deg * M_PI / 180.0);
@@ -103,15 +137,13 @@ inline SharpFeatureEvidence sharpFeatureEvidence(const std::vector<Vec3> &filter
   for (int f = 0; f < m; ++f) {
     for (int g : face_rings.edge_neighbours[f]) {
       if (g <= f) continue; // each edge once; −1 (boundary) too
-      const bool valid = filtered[f].squaredNorm() > 0.5 && filtered[g].squaredNorm() > 0.5 &&
-                         smoothed[f].squaredNorm() > 0.5 && smoothed[g].squaredNorm() > 0.5;
-      if (!valid) continue;
-      ++edges;
-      const double c = filtered[f].dot(filtered[g]);
-      flat += c > flat_cos;
-      if (c >= crease_cos) continue;
-      ++creases;
-      confirmed += smoothed[f].dot(smoothed[g]) < confirm_cos;
+      if (counted && !((*counted)[f] && (*counted)[g])) continue;
+      const int flags =
+          detail::edgeEvidence(f, g, filtered, smoothed, crease_cos, confirm_cos, flat_cos);
+      edges += (flags & detail::kEdge) != 0;
+      flat += (flags & detail::kFlat) != 0;
+      creases += (flags & detail::kCrease) != 0;
+      confirmed += (flags & detail::kConfirmed) != 0;
     }
   }
   e.edges = edges, e.flat_pairs = flat, e.crease_pairs = creases, e.confirmed_pairs = confirmed;
@@ -123,20 +155,24 @@ inline SharpFeatureEvidence sharpFeatureEvidence(const std::vector<Vec3> &filter
 // sharpFeatureEvidence as the automatic choice reads it: on meshes fine enough for a stride above 1
 // (flatnessStride) the flat share compares faces that many edges apart instead of neighbours
 // (`points`, `faces`: the mesh whose face centroids guide the walks), and says so in flat_stride.
+// `model_faces`: the face count the stride is read from (the whole mesh's, when `faces` is a part
+// of it); `counted` (optional): the faces the evidence is taken on (sharpFeatureEvidence).
 inline SharpFeatureEvidence modelScaleEvidence(const std::vector<Vec3> &filtered,
                                                const std::vector<Vec3> &smoothed,
                                                const FaceRings &face_rings,
                                                const std::vector<Vec3> &points,
                                                const std::vector<Face> &faces, double crease_deg,
-                                               double confirm_deg, double flat_deg) {
-  SharpFeatureEvidence e =
-      sharpFeatureEvidence(filtered, smoothed, face_rings, crease_deg, confirm_deg, flat_deg);
-  e.flat_stride = flatnessStride(faces.size());
+                                               double confirm_deg, double flat_deg,
+                                               size_t model_faces = 0,
+                                               const std::vector<std::uint8_t> *counted = nullptr) {
+  SharpFeatureEvidence e = sharpFeatureEvidence(filtered, smoothed, face_rings, crease_deg,
+                                                confirm_deg, flat_deg, counted);
+  e.flat_stride = flatnessStride(model_faces ? model_faces : faces.size());
   if (e.flat_stride > 1) {
     std::vector<Vec3> centroids;
     computeFaceCentroids(points, faces, centroids);
     e.flat_share = detail::flatShareAtStride(filtered, face_rings, centroids, e.flat_stride,
-                                             std::cos(flat_deg * M_PI / 180.0));
+                                             std::cos(flat_deg * M_PI / 180.0), counted);
   }
   return e;
 }

@@ -120,6 +120,28 @@ TEST(AutoSmooth, NoisySphereGoesToTheOrganicModeWithItsExactResult) {
   RecordProperty("confirmed_share", std::to_string(r.evidence.confirmed_share));
 }
 
+TEST(AutoSmooth, LargeMeshesDecideOnWindowsWithTheWholeMeshsChoiceAndResult) {
+  // 41k vertices, with cores of 6 rings: 8 windows take about 35 % of its faces.
+  const MeshArrays clean = test_meshes::icosphere(1.0, 6);
+  const MeshArrays noisy = withRandomNoise(clean, 0.2 * meanEdge(clean), 9);
+  std::vector<Vec3> windowed_out, whole_out;
+  VertexQuantities q;
+  AutoSmoothParams params;
+  params.windows.core_rings = 6;
+  const AutoSmoothReport windowed = autoSmoothMesh(noisy, params, windowed_out, q);
+  AutoSmoothParams whole_params = params;
+  whole_params.windows.max_windows = 0; // the evidence on the whole mesh
+  const AutoSmoothReport whole = autoSmoothMesh(noisy, whole_params, whole_out, q);
+  EXPECT_TRUE(windowed.windowed);
+  EXPECT_FALSE(whole.windowed);
+  EXPECT_GT(windowed.window_faces, long(noisy.faces.size()) / 10);
+  EXPECT_LT(windowed.window_faces, long(noisy.faces.size()) / 2);
+  EXPECT_EQ(windowed.chose_feature, whole.chose_feature);
+  // A sample of the whole mesh's evidence, and the chosen mode's result bit for bit.
+  EXPECT_NEAR(windowed.evidence.flat_share, whole.evidence.flat_share, 0.03);
+  EXPECT_EQ(windowed_out, whole_out);
+}
+
 TEST(AutoSmooth, CleanMeshesStayAsTheyAre) {
   for (const MeshArrays &clean :
        {test_meshes::box(1.0, 0.8, 0.6, 16), test_meshes::icosphere(1.0, 4)}) {

@@ -1,0 +1,266 @@
+// The automatic choice's evidence (mode_choice.h) on a large mesh from windows of it.
+//
+// Inputs: the mesh (in the spatial order the drivers run in), its topology and movable vertices
+// (DriverSetup), the feature mode's pass counts and the evidence's angles. Output: the evidence
+// counted on the cores of `windows` patches of the mesh around seed vertices spread evenly along
+// the spatial order, and how much of the mesh the windows took.
+//
+// Why: the evidence needs the feature mode's pre-pass and first guidance period of its normal
+// filter, which the organic mode then throws away (12 % of a 2M-vertex run). Every stage reads a
+// bounded neighbourhood: a Taubin step one ring, the guided filter's guidance three face rings and
+// each iteration one, a flatness walk `stride` faces. So a face within `core_rings` of a seed gets
+// the whole mesh's values when its window reaches `windowMargin` rings further, and a window keeps
+// the mesh's element order (a monotone renumbering), so every sum runs in the same order: the
+// core's filtered normals are the whole mesh's bit for bit (tests/unit/test_evidence_windows.cpp).
+// What is approximate is the sample: the shares over the cores instead of over every face (the
+// automatic mode decides on it only when its shares are clear of the thresholds).
+#pragma once
+
+#include "driver_setup.h"
+#include "mode_choice.h"
+#include "normal_filter.h"
+#include "vertex_roles.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace vcg_ext {
+
+struct EvidenceWindowParams {
+  int core_rings = 24;  // the evidence is counted on faces within this many rings of a seed
+  // As many windows (seed vertices, one per equal run of the spatial order) as take about
+  // `face_share` of the mesh's faces, a window of r rings holding about 6 r² faces, within
+  // [min_windows, max_windows]: the more windows, the smaller the sample's error (on the 2.2M
+  // bunny, 48 windows left the confirmed share ±0.08, too close to decide on).
+  double face_share = 0.3;
+  int min_windows = 8, max_windows = 1000;
+  // Windows that would hold more than this share of the mesh's faces save too little: the
+  // caller takes the evidence on the whole mesh instead.
+  double max_face_share = 0.45;
+};
+
+// The feature mode's first pass as the automatic choice reads it (feature_smooth.h,
+// auto_smooth.h): `prepass_pairs` Taubin pairs, then the face normals filtered by `first`
+// (its first guidance period); `reference`: the face normals after `reference_pairs` plain pairs.
+struct FirstPassCounts {
+  int prepass_pairs = 0, reference_pairs = 0;
+  NormalFilterParams first;
+};
+
+struct WindowedEvidence {
+  bool used = false; // false: the windows would take too much of the mesh (nothing measured)
+  SharpFeatureEvidence evidence;
+  // The shares' standard errors as a sample, from their spread over the windows (infinite with
+  // fewer than two windows that count).
+  double flat_error = INFINITY, confirmed_error = INFINITY;
+  long window_faces = 0, core_faces = 0;
+};
+
+namespace detail {
+
+// The rings from each core vertex outward that a window needs for its core to see the whole
+// mesh's values: the pre-pass or reference pairs (two steps each), a face's corners, the
+// guidance (three face rings) and the iterations (one each), the flatness walks, and two spare.
+inline int windowMargin(const FirstPassCounts &counts, int stride) {
+  return 2 * std::max(counts.prepass_pairs, counts.reference_pairs) + 1 +
+         (3 + std::max(0, counts.first.iterations)) + stride + 2;
+}
+
+// Ring distance of every vertex from the nearest seed (breadth first from all seeds), up to
+// `limit`; farther vertices read limit + 1.
+// `source` (optional): per vertex the index in `seeds` of the seed it was reached from first (a
+// frontier runs in seed order: the lowest index among equally near seeds), −1 beyond `limit`.
+inline std::vector<int> ringDistance(const Rings &rings, const std::vector<int> &seeds, int limit,
+                                     std::vector<int> *source = nullptr) {
+  std::vector<int> distance(rings.vertex_count, limit + 1), frontier, next;
+  if (source) source->assign(rings.vertex_count, -1);
+  for (size_t i = 0; i < seeds.size(); ++i)
+    if (distance[seeds[i]] > 0) {
+      distance[seeds[i]] = 0, frontier.push_back(seeds[i]);
+      if (source) (*source)[seeds[i]] = int(i);
+    }
+  for (int depth = 1; depth <= limit && !frontier.empty(); ++depth) {
+    next.clear();
+    for (int v : frontier)
+      for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w)
+        if (distance[*w] > depth) {
+          distance[*w] = depth, next.push_back(*w);
+          if (source) (*source)[*w] = (*source)[v];
+        }
+    frontier.swap(next);
+  }
+  return distance;
+}
+
+// One seed per equal run of the vertex order (the spatial order: runs are regions), the run's
+// middle vertex or the next one after it that has faces and may move.
+inline std::vector<int> windowSeeds(const Rings &rings, const std::vector<std::uint8_t> &fixed,
+                                    int windows) {
+  const long n = rings.vertex_count;
+  std::vector<int> seeds;
+  for (long w = 0; w < windows && n > 0; ++w) {
+    const long begin = w * n / windows, end = (w + 1) * n / windows;
+    for (long v = (begin + end) / 2; v < end; ++v)
+      if (!fixed[v] && rings.ring1Size(int(v)) > 0) {
+        seeds.push_back(int(v));
+        break;
+      }
+  }
+  return seeds;
+}
+
+// The standard error of a pooled share `pooled` = Σ n_k s_k / Σ n_k from the windows' shares s_k
+// and counts n_k (a ratio estimator over a sample of windows).
+inline double pooledShareError(const std::vector<double> &share, const std::vector<double> &count,
+                               double pooled) {
+  double total = 0, spread = 0;
+  int windows = 0;
+  for (size_t k = 0; k < share.size(); ++k) {
+    if (!(count[k] > 0)) continue;
+    ++windows;
+    total += count[k];
+    spread += std::pow(count[k] * (share[k] - pooled), 2);
+  }
+  if (windows < 2) return INFINITY;
+  return std::sqrt(spread * windows / (windows - 1.0)) / total;
+}
+
+} // namespace detail
+
+// The windows as one mesh: the faces whose corners all lie within `reach` rings of a seed, in
+// the mesh's order, over their vertices in the mesh's order.
+struct MeshWindows {
+  MeshArrays mesh;
+  std::vector<int> vertex;          // window vertex -> mesh vertex
+  std::vector<int> face;            // window face -> mesh face
+  std::vector<std::uint8_t> fixed;  // the mesh's movable flags, per window vertex
+  std::vector<std::uint8_t> core;   // per window face: its corners within the core rings
+  std::vector<int> window;          // per window face: the seed its first corner was reached from
+};
+
+inline MeshWindows meshWindows(const MeshArrays &mesh, const Rings &rings,
+                               const std::vector<std::uint8_t> &fixed, const std::vector<int> &seeds,
+                               int core_rings, int reach) {
+  MeshWindows w;
+  std::vector<int> source;
+  const std::vector<int> distance = detail::ringDistance(rings, seeds, reach, &source);
+  std::vector<int> local(mesh.points.size(), -1);
+  for (size_t v = 0; v < mesh.points.size(); ++v)
+    if (distance[v] <= reach) {
+      local[v] = int(w.vertex.size());
+      w.vertex.push_back(int(v));
+      w.mesh.points.push_back(mesh.points[v]);
+      w.fixed.push_back(fixed[v]);
+    }
+  for (size_t g = 0; g < mesh.faces.size(); ++g) {
+    const Face &f = mesh.faces[g];
+    if (local[f[0]] < 0 || local[f[1]] < 0 || local[f[2]] < 0) continue;
+    w.face.push_back(int(g));
+    w.mesh.faces.push_back({local[f[0]], local[f[1]], local[f[2]]});
+    w.core.push_back(distance[f[0]] <= core_rings && distance[f[1]] <= core_rings &&
+                     distance[f[2]] <= core_rings);
+    w.window.push_back(source[f[0]]);
+  }
+  return w;
+}
+
+// The first pass's filtered and reference face normals of `mesh` (FirstPassCounts); `fixed` and
+// `roles` as DriverSetup has them, `edge` the mean edge length the filter's kernel reads.
+inline void firstPassNormals(const MeshArrays &mesh, const Rings &rings, const FaceRings &face_rings,
+                             const std::vector<std::uint8_t> &fixed,
+                             const detail::VertexRoles &roles, const FirstPassCounts &counts,
+                             double edge, std::vector<Vec3> &filtered,
+                             std::vector<Vec3> &reference) {
+  std::vector<Vec3> points = mesh.points;
+  taubinSmooth(points, rings, fixed, roles.boundary_neighbours, counts.prepass_pairs);
+  computeFaceNormals(points, mesh.faces, filtered);
+  filterNormalsInPlace(points, mesh.faces, face_rings, counts.first, edge, filtered);
+  if (counts.reference_pairs != counts.prepass_pairs) {
+    points = mesh.points;
+    taubinSmooth(points, rings, fixed, roles.boundary_neighbours, counts.reference_pairs);
+  }
+  computeFaceNormals(points, mesh.faces, reference);
+}
+
+// The evidence on the windows' cores (see the file comment); `model_faces` of the whole mesh set
+// the flatness stride as modelScaleEvidence reads it there.
+inline WindowedEvidence windowedEvidence(const MeshArrays &mesh, const detail::DriverSetup &setup,
+                                         const FirstPassCounts &counts, double crease_deg,
+                                         double confirm_deg, double flat_deg,
+                                         const EvidenceWindowParams &params = {}) {
+  WindowedEvidence out;
+  const int stride = flatnessStride(mesh.faces.size());
+  const int reach = params.core_rings + detail::windowMargin(counts, stride);
+  const int windows = std::clamp(
+      int(params.face_share * double(mesh.faces.size()) / (6.0 * double(reach) * reach)),
+      params.min_windows, std::max(params.min_windows, params.max_windows));
+  const std::vector<int> seeds = detail::windowSeeds(setup.rings, setup.fixed, windows);
+  if (seeds.empty()) return out;
+  // How much the windows take, before building them (their faces: at most three per vertex).
+  {
+    const std::vector<int> distance = detail::ringDistance(setup.rings, seeds, reach);
+    long faces = 0;
+    for (const Face &f : mesh.faces)
+      faces += distance[f[0]] <= reach && distance[f[1]] <= reach && distance[f[2]] <= reach;
+    if (double(faces) > params.max_face_share * double(mesh.faces.size())) return out;
+  }
+  const MeshWindows w =
+      meshWindows(mesh, setup.rings, setup.fixed, seeds, params.core_rings, reach);
+  const Rings rings = computeRings(int(w.mesh.points.size()), w.mesh.faces, false);
+  const detail::VertexRoles roles =
+      detail::vertexRoles(w.mesh, rings, setup.stats.mean_edge_length);
+  std::vector<std::uint8_t> fixed(w.fixed);
+  for (size_t v = 0; v < fixed.size(); ++v) fixed[v] = fixed[v] || roles.frozen[v];
+  const FaceRings face_rings = computeFaceRings(w.mesh.faces, rings);
+  std::vector<Vec3> filtered, reference;
+  firstPassNormals(w.mesh, rings, face_rings, fixed, roles, counts, setup.stats.mean_edge_length,
+                   filtered, reference);
+  out.evidence = modelScaleEvidence(filtered, reference, face_rings, w.mesh.points, w.mesh.faces,
+                                    crease_deg, confirm_deg, flat_deg, mesh.faces.size(), &w.core);
+  out.used = true;
+  out.window_faces = long(w.mesh.faces.size());
+  for (std::uint8_t c : w.core) out.core_faces += c;
+
+  // Each window's own shares, for the standard errors: one sweep over the cores, tallied per
+  // window (an edge counts for its lower face's window when both faces are core).
+  const int count = int(seeds.size());
+  std::vector<double> edges(count, 0.0), flat(count, 0.0), creases(count, 0.0),
+      confirmed(count, 0.0), walks(count, 0.0), flat_walks(count, 0.0);
+  std::vector<Vec3> centroids;
+  if (stride > 1) computeFaceCentroids(w.mesh.points, w.mesh.faces, centroids);
+  const double crease_cos = std::cos(crease_deg * M_PI / 180.0),
+               confirm_cos = std::cos(confirm_deg * M_PI / 180.0),
+               flat_cos = std::cos(flat_deg * M_PI / 180.0);
+  for (int f = 0; f < int(w.core.size()); ++f) {
+    if (!w.core[f]) continue;
+    const int k = w.window[f];
+    for (int g : face_rings.edge_neighbours[f]) {
+      if (g <= f || !w.core[g]) continue;
+      const int flags =
+          detail::edgeEvidence(f, g, filtered, reference, crease_cos, confirm_cos, flat_cos);
+      edges[k] += (flags & detail::kEdge) != 0;
+      flat[k] += (flags & detail::kFlat) != 0;
+      creases[k] += (flags & detail::kCrease) != 0;
+      confirmed[k] += (flags & detail::kConfirmed) != 0;
+    }
+    for (int j = 0; j < 3 && stride > 1; ++j) {
+      const int walk = detail::flatWalk(f, j, filtered, face_rings, centroids, stride, flat_cos);
+      walks[k] += walk >= 0;
+      flat_walks[k] += walk > 0;
+    }
+  }
+  auto shares = [](const std::vector<double> &part, const std::vector<double> &whole) {
+    std::vector<double> share(part.size(), 0.0);
+    for (size_t k = 0; k < part.size(); ++k) share[k] = whole[k] > 0 ? part[k] / whole[k] : 0.0;
+    return share;
+  };
+  const std::vector<double> flat_share = stride > 1 ? shares(flat_walks, walks) : shares(flat, edges);
+  const std::vector<double> &flat_count = stride > 1 ? walks : edges;
+  out.flat_error = detail::pooledShareError(flat_share, flat_count, out.evidence.flat_share);
+  out.confirmed_error = detail::pooledShareError(shares(confirmed, creases), creases,
+                                                 out.evidence.confirmed_share);
+  return out;
+}
+
+} // namespace vcg_ext
