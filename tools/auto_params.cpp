@@ -82,6 +82,9 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   real("feature_flat_share", p.feature_flat_share);
   real("feature_confirmed_share", p.feature_confirmed_share);
   real("flat_deg", p.flat_deg);
+  integer("max_windows", p.windows.max_windows); // 0: the evidence on the whole mesh
+  integer("core_rings", p.windows.core_rings);
+  real("window_errors", p.window_errors);
   return r;
 }
 
@@ -170,6 +173,9 @@ int main(int argc, char **argv) {
     std::printf("%s%.4f", b ? ", " : "", noise.spectrum[b]);
   std::printf("], \"flat_share\": %.4f, \"confirmed_share\": %.4f", a.evidence.flat_share,
               a.evidence.confirmed_share);
+  if (a.windowed)
+    std::printf(", \"windowed\": true, \"flat_error\": %.4f, \"confirmed_error\": %.4f",
+                a.flat_error, a.confirmed_error);
   if (organic) {
     std::printf(", \"fine_snr\": %.3f, \"slope\": %.2f, \"coarse_snr\": %.2f", organic->bands.fine_snr, organic->bands.shape_slope, organic->bands.coarse_snr);
     std::printf(", \"noise_edges\": %.4f, \"alpha\": %.3f, \"gains\": [", organic->bands.noise_edges,

@@ -48,6 +48,7 @@ struct AutoSmoothReport {
   double seconds_setup = 0, seconds_reference = 0; // shared topology; the Taubin copy and evidence
   bool windowed = false;        // decided on windows of the mesh (evidence_windows.h)
   long window_faces = 0;        // the faces the windows held
+  double flat_error = 0, confirmed_error = 0; // the windows' standard errors of the shares
   double seconds_windows = 0;   // the windows' evidence (also when it was not clear enough)
 };
 
@@ -86,6 +87,8 @@ inline bool decideOnWindows(const MeshArrays &mesh, const AutoSmoothParams &para
   report.chose_feature = feature;
   report.evidence = e;
   report.window_faces = w.window_faces;
+  report.flat_error = w.flat_error;
+  report.confirmed_error = w.confirmed_error;
   return true;
 }
 
@@ -196,13 +199,16 @@ inline MethodRun automaticMethod(const MeshArrays &mesh, const MethodParams &p,
       r.evidence.flat_stride > 1
           ? formatLine("face pairs %.0f edges apart", double(r.evidence.flat_stride))
           : "the edges";
+  // On windows: each share with its standard error as a sample, and how much of the mesh it read.
+  auto error = [&](double e) { return r.windowed ? formatLine(" ± %.3f", e) : std::string(); };
   const std::string sample =
       r.windowed ? formatLine(", on windows holding %.0f %% of the faces",
                               100.0 * double(r.window_faces) / double(mesh.faces.size()))
                  : std::string();
   const std::string why = formatLine(
-      "%.3f of %s flat and %.3f of the creases confirmed after guided filtering%s",
-      r.evidence.flat_share, flat_what.c_str(), r.evidence.confirmed_share, sample.c_str());
+      "%.3f%s of %s flat and %.3f%s of the creases confirmed after guided filtering%s",
+      r.evidence.flat_share, error(r.flat_error).c_str(), flat_what.c_str(),
+      r.evidence.confirmed_share, error(r.confirmed_error).c_str(), sample.c_str());
   // The decision's own time: on windows, or the feature mode's first pass on the whole mesh.
   const std::string decision_time =
       r.windowed ? formatLine("Time of the decision: shared topology %.3f s, evidence on windows "

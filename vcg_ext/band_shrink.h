@@ -188,9 +188,7 @@ inline double estimateNormalNoiseSigma(const std::vector<Vec3> &points, const Ri
   }
   if (residual.empty()) return 0.0;
   inflation /= double(residual.size());
-  auto middle = residual.begin() + residual.size() / 2;
-  std::nth_element(residual.begin(), middle, residual.end());
-  return *middle / 0.6745 / std::sqrt(inflation);
+  return detail::kthSmallest(residual, residual.size() / 2) / 0.6745 / std::sqrt(inflation);
 }
 
 // Smooths `points` in place (see the file comment). `progress(fraction)` may return false to

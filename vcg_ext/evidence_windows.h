@@ -22,6 +22,7 @@
 #include "vertex_roles.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -139,12 +140,11 @@ struct MeshWindows {
   std::vector<int> window;          // per window face: the seed its first corner was reached from
 };
 
-inline MeshWindows meshWindows(const MeshArrays &mesh, const Rings &rings,
-                               const std::vector<std::uint8_t> &fixed, const std::vector<int> &seeds,
+// With the ring distances and sources of ringDistance(rings, seeds, reach, &source) given.
+inline MeshWindows meshWindows(const MeshArrays &mesh, const std::vector<std::uint8_t> &fixed,
+                               const std::vector<int> &distance, const std::vector<int> &source,
                                int core_rings, int reach) {
   MeshWindows w;
-  std::vector<int> source;
-  const std::vector<int> distance = detail::ringDistance(rings, seeds, reach, &source);
   std::vector<int> local(mesh.points.size(), -1);
   for (size_t v = 0; v < mesh.points.size(); ++v)
     if (distance[v] <= reach) {
@@ -163,6 +163,14 @@ inline MeshWindows meshWindows(const MeshArrays &mesh, const Rings &rings,
     w.window.push_back(source[f[0]]);
   }
   return w;
+}
+
+inline MeshWindows meshWindows(const MeshArrays &mesh, const Rings &rings,
+                               const std::vector<std::uint8_t> &fixed, const std::vector<int> &seeds,
+                               int core_rings, int reach) {
+  std::vector<int> source;
+  const std::vector<int> distance = detail::ringDistance(rings, seeds, reach, &source);
+  return meshWindows(mesh, fixed, distance, source, core_rings, reach);
 }
 
 // The first pass's filtered and reference face normals of `mesh` (FirstPassCounts); `fixed` and
@@ -197,16 +205,21 @@ inline WindowedEvidence windowedEvidence(const MeshArrays &mesh, const detail::D
       params.min_windows, std::max(params.min_windows, params.max_windows));
   const std::vector<int> seeds = detail::windowSeeds(setup.rings, setup.fixed, windows);
   if (seeds.empty()) return out;
-  // How much the windows take, before building them (their faces: at most three per vertex).
+  // How much the windows take, before building them.
+  std::vector<int> source;
+  const std::vector<int> distance = detail::ringDistance(setup.rings, seeds, reach, &source);
   {
-    const std::vector<int> distance = detail::ringDistance(setup.rings, seeds, reach);
+    const int m = int(mesh.faces.size());
     long faces = 0;
-    for (const Face &f : mesh.faces)
+#pragma omp parallel for schedule(static) reduction(+ : faces) if (m >= min_parallel_vertices)
+    for (int g = 0; g < m; ++g) {
+      const Face &f = mesh.faces[g];
       faces += distance[f[0]] <= reach && distance[f[1]] <= reach && distance[f[2]] <= reach;
-    if (double(faces) > params.max_face_share * double(mesh.faces.size())) return out;
+    }
+    if (double(faces) > params.max_face_share * double(m)) return out;
   }
   const MeshWindows w =
-      meshWindows(mesh, setup.rings, setup.fixed, seeds, params.core_rings, reach);
+      meshWindows(mesh, setup.fixed, distance, source, params.core_rings, reach);
   const Rings rings = computeRings(int(w.mesh.points.size()), w.mesh.faces, false);
   const detail::VertexRoles roles =
       detail::vertexRoles(w.mesh, rings, setup.stats.mean_edge_length);
@@ -216,50 +229,68 @@ inline WindowedEvidence windowedEvidence(const MeshArrays &mesh, const detail::D
   std::vector<Vec3> filtered, reference;
   firstPassNormals(w.mesh, rings, face_rings, fixed, roles, counts, setup.stats.mean_edge_length,
                    filtered, reference);
-  out.evidence = modelScaleEvidence(filtered, reference, face_rings, w.mesh.points, w.mesh.faces,
-                                    crease_deg, confirm_deg, flat_deg, mesh.faces.size(), &w.core);
-  out.used = true;
-  out.window_faces = long(w.mesh.faces.size());
-  for (std::uint8_t c : w.core) out.core_faces += c;
-
-  // Each window's own shares, for the standard errors: one sweep over the cores, tallied per
-  // window (an edge counts for its lower face's window when both faces are core).
-  const int count = int(seeds.size());
-  std::vector<double> edges(count, 0.0), flat(count, 0.0), creases(count, 0.0),
-      confirmed(count, 0.0), walks(count, 0.0), flat_walks(count, 0.0);
   std::vector<Vec3> centroids;
   if (stride > 1) computeFaceCentroids(w.mesh.points, w.mesh.faces, centroids);
+  out.window_faces = long(w.mesh.faces.size());
+
+  // Per window, its core faces' evidence (an edge counts for its lower face's window when both
+  // faces are core; a walk for the window it starts in): the windows in parallel, each tally in
+  // face order, so integer counts that do not depend on the thread count. The pooled evidence is
+  // their sum, as modelScaleEvidence counts it on the cores.
+  const int count = int(seeds.size());
+  std::vector<std::vector<int>> members(count);
+  for (int f = 0; f < int(w.core.size()); ++f)
+    if (w.core[f]) members[w.window[f]].push_back(f);
+  enum { kEdges, kFlat, kCreases, kConfirmed, kWalks, kFlatWalks, kTallies };
+  std::vector<std::array<long, kTallies>> tally(count);
   const double crease_cos = std::cos(crease_deg * M_PI / 180.0),
                confirm_cos = std::cos(confirm_deg * M_PI / 180.0),
                flat_cos = std::cos(flat_deg * M_PI / 180.0);
-  for (int f = 0; f < int(w.core.size()); ++f) {
-    if (!w.core[f]) continue;
-    const int k = w.window[f];
-    for (int g : face_rings.edge_neighbours[f]) {
-      if (g <= f || !w.core[g]) continue;
-      const int flags =
-          detail::edgeEvidence(f, g, filtered, reference, crease_cos, confirm_cos, flat_cos);
-      edges[k] += (flags & detail::kEdge) != 0;
-      flat[k] += (flags & detail::kFlat) != 0;
-      creases[k] += (flags & detail::kCrease) != 0;
-      confirmed[k] += (flags & detail::kConfirmed) != 0;
+#pragma omp parallel for schedule(dynamic, 1) if (out.window_faces >= min_parallel_vertices)
+  for (int k = 0; k < count; ++k) {
+    std::array<long, kTallies> t{};
+    for (int f : members[k]) {
+      for (int g : face_rings.edge_neighbours[f]) {
+        if (g <= f || !w.core[g]) continue;
+        const int flags =
+            detail::edgeEvidence(f, g, filtered, reference, crease_cos, confirm_cos, flat_cos);
+        t[kEdges] += (flags & detail::kEdge) != 0;
+        t[kFlat] += (flags & detail::kFlat) != 0;
+        t[kCreases] += (flags & detail::kCrease) != 0;
+        t[kConfirmed] += (flags & detail::kConfirmed) != 0;
+      }
+      for (int j = 0; j < 3 && stride > 1; ++j) {
+        const int walk = detail::flatWalk(f, j, filtered, face_rings, centroids, stride, flat_cos);
+        t[kWalks] += walk >= 0;
+        t[kFlatWalks] += walk > 0;
+      }
     }
-    for (int j = 0; j < 3 && stride > 1; ++j) {
-      const int walk = detail::flatWalk(f, j, filtered, face_rings, centroids, stride, flat_cos);
-      walks[k] += walk >= 0;
-      flat_walks[k] += walk > 0;
-    }
+    tally[k] = t;
   }
-  auto shares = [](const std::vector<double> &part, const std::vector<double> &whole) {
-    std::vector<double> share(part.size(), 0.0);
-    for (size_t k = 0; k < part.size(); ++k) share[k] = whole[k] > 0 ? part[k] / whole[k] : 0.0;
-    return share;
-  };
-  const std::vector<double> flat_share = stride > 1 ? shares(flat_walks, walks) : shares(flat, edges);
-  const std::vector<double> &flat_count = stride > 1 ? walks : edges;
-  out.flat_error = detail::pooledShareError(flat_share, flat_count, out.evidence.flat_share);
-  out.confirmed_error = detail::pooledShareError(shares(confirmed, creases), creases,
-                                                 out.evidence.confirmed_share);
+  std::array<long, kTallies> sum{};
+  for (const auto &t : tally)
+    for (int i = 0; i < kTallies; ++i) sum[i] += t[i];
+  for (const auto &list : members) out.core_faces += long(list.size());
+  const int flat_part = stride > 1 ? kFlatWalks : kFlat, flat_whole = stride > 1 ? kWalks : kEdges;
+  auto share = [](long part, long whole) { return whole ? double(part) / double(whole) : 0.0; };
+  SharpFeatureEvidence &e = out.evidence;
+  e.edges = sum[kEdges], e.flat_pairs = sum[kFlat], e.crease_pairs = sum[kCreases];
+  e.confirmed_pairs = sum[kConfirmed];
+  e.flat_stride = stride;
+  e.flat_share = share(sum[flat_part], sum[flat_whole]);
+  e.confirmed_share = share(sum[kConfirmed], sum[kCreases]);
+  out.used = true;
+
+  // The shares' standard errors from their spread over the windows.
+  std::vector<double> flat(count), flat_count(count), confirmed(count), creases(count);
+  for (int k = 0; k < count; ++k) {
+    flat[k] = share(tally[k][flat_part], tally[k][flat_whole]);
+    flat_count[k] = double(tally[k][flat_whole]);
+    confirmed[k] = share(tally[k][kConfirmed], tally[k][kCreases]);
+    creases[k] = double(tally[k][kCreases]);
+  }
+  out.flat_error = detail::pooledShareError(flat, flat_count, e.flat_share);
+  out.confirmed_error = detail::pooledShareError(confirmed, creases, e.confirmed_share);
   return out;
 }
 

@@ -71,9 +71,7 @@ namespace detail {
 
 inline double medianOf(std::vector<double> &values) {
   if (values.empty()) return 0.0;
-  auto middle = values.begin() + values.size() / 2;
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
+  return kthSmallest(values, values.size() / 2);
 }
 
 // Median dihedral spread of `points` (a FaceRings built once, shared by the calls).

@@ -24,6 +24,9 @@
 #include <climits>
 #include <cmath>
 #include <cstdint>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace vcg_ext {
 
@@ -121,16 +124,19 @@ inline void mergeSortedUnique(const int *a, const int *a_end, const int *b, cons
 }
 } // namespace detail
 
-inline FaceRings computeFaceRings(const std::vector<Face> &faces, const Rings &rings) {
+// `with_edge_neighbours` false leaves edge_neighbours empty (only the normal filter, the
+// dihedral spread and the mode choice read them; the face patches do not).
+inline FaceRings computeFaceRings(const std::vector<Face> &faces, const Rings &rings,
+                                  bool with_edge_neighbours = true) {
   FaceRings r;
   const int m = int(faces.size());
-  r.edge_neighbours.assign(m, {-1, -1, -1});
+  if (with_edge_neighbours) r.edge_neighbours.assign(m, {-1, -1, -1});
   // In parallel blocks, each list exactly sized (rings.h's buildCsrInBlocks).
   detail::buildCsrInBlocks(m, r.offsets, r.faces, [&](int f, std::vector<int> &out) {
     detail::mergeSortedUnique(rings.facesBegin(faces[f][0]), rings.facesEnd(faces[f][0]),
                               rings.facesBegin(faces[f][1]), rings.facesEnd(faces[f][1]),
                               rings.facesBegin(faces[f][2]), rings.facesEnd(faces[f][2]), out);
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < 3 && with_edge_neighbours; ++k) {
       const int a = faces[f][k], b = faces[f][(k + 1) % 3];
       for (const int *g = rings.facesBegin(a); g != rings.facesEnd(a); ++g) {
         const Face &t = faces[*g];
@@ -154,8 +160,79 @@ namespace detail {
 // Removes the NaN entries (the "no value" of per-element arrays filled in parallel), keeping the
 // others in order.
 inline void eraseNaN(std::vector<double> &values) {
-  values.erase(std::remove_if(values.begin(), values.end(), [](double x) { return std::isnan(x); }),
-               values.end());
+  const long n = long(values.size());
+  constexpr long kBlock = 1 << 16;
+  if (n < 16 * kBlock) {
+    values.erase(std::remove_if(values.begin(), values.end(), [](double x) { return std::isnan(x); }),
+                 values.end());
+    return;
+  }
+  // Large arrays in parallel blocks: each block's kept values, then copied to their places.
+  const long blocks = (n + kBlock - 1) / kBlock;
+  std::vector<long> start(blocks + 1, 0);
+#pragma omp parallel for schedule(static)
+  for (long b = 0; b < blocks; ++b)
+    for (long i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i)
+      start[b + 1] += !std::isnan(values[size_t(i)]);
+  for (long b = 0; b < blocks; ++b) start[b + 1] += start[b];
+  std::vector<double> kept(size_t(start[blocks]));
+#pragma omp parallel for schedule(static)
+  for (long b = 0; b < blocks; ++b) {
+    long at = start[b];
+    for (long i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i)
+      if (!std::isnan(values[size_t(i)])) kept[size_t(at++)] = values[size_t(i)];
+  }
+  values.swap(kept);
+}
+
+// The k-th smallest of `values` (0-based): the value std::nth_element puts at position k, which
+// does not depend on how it is found. Large arrays in parallel: a bracket around it from a regular
+// sample, one counting sweep, then a selection among the values inside the bracket (a sample
+// that misses falls back to std::nth_element). Reorders `values`.
+inline double kthSmallest(std::vector<double> &values, size_t k,
+                          size_t parallel_from = 1000000) {
+  const size_t n = values.size();
+#ifndef _OPENMP
+  parallel_from = n + 1; // one thread: the plain selection
+#endif
+  if (n < parallel_from || n < 2 || k >= n) {
+    std::nth_element(values.begin(), values.begin() + std::min(k, n - 1), values.end());
+    return values[std::min(k, n - 1)];
+  }
+  constexpr size_t kSamples = 4096, kMargin = 256; // ±4 standard deviations of the sample's rank
+  std::vector<double> sample(kSamples);
+  for (size_t i = 0; i < kSamples; ++i) sample[i] = values[i * (n / kSamples)];
+  std::sort(sample.begin(), sample.end());
+  const size_t at = size_t(double(k) / double(n) * kSamples);
+  const double lo = sample[at > kMargin ? at - kMargin : 0],
+               hi = sample[std::min(kSamples - 1, at + kMargin)];
+  const long count = long(n);
+  long below = 0;
+  std::vector<std::vector<double>> inside;
+#ifdef _OPENMP
+  inside.resize(omp_get_max_threads());
+#pragma omp parallel reduction(+ : below)
+  {
+    std::vector<double> &mine = inside[omp_get_thread_num()];
+#pragma omp for schedule(static)
+    for (long i = 0; i < count; ++i) {
+      const double x = values[size_t(i)];
+      if (x < lo) ++below;
+      else if (x <= hi) mine.push_back(x);
+    }
+  }
+#endif
+  size_t within = 0;
+  for (const auto &part : inside) within += part.size();
+  if (size_t(below) > k || k >= size_t(below) + within) {
+    std::nth_element(values.begin(), values.begin() + k, values.end());
+    return values[k];
+  }
+  std::vector<double> middle;
+  middle.reserve(within);
+  for (auto &part : inside) middle.insert(middle.end(), part.begin(), part.end());
+  std::nth_element(middle.begin(), middle.begin() + (k - size_t(below)), middle.end());
+  return middle[k - size_t(below)];
 }
 } // namespace detail
 
@@ -186,9 +263,7 @@ inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
   }
   detail::eraseNaN(spreads);
   if (spreads.empty()) return 0.0;
-  auto middle = spreads.begin() + spreads.size() / 2;
-  std::nth_element(spreads.begin(), middle, spreads.end());
-  return *middle;
+  return detail::kthSmallest(spreads, spreads.size() / 2);
 }
 
 // Taubin λ|μ smoothing with uniform weights: `pairs` shrink/inflate steps. Vertices with

@@ -137,7 +137,8 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     report.patch_step = 1.0 - report.bands.detail;
     const int patch_updates = report.patch_step > 0 ? params.max_patch_updates : 0;
     report.patch_updates = patch_updates;
-    if (patch_updates > 0) setup.face_rings = computeFaceRings(mesh.faces, rings);
+    if (patch_updates > 0)
+      setup.face_rings = computeFaceRings(mesh.faces, rings, /*with_edge_neighbours=*/false);
     for (int update = 0; update < patch_updates; ++update) {
       computeFaceNormals(current, mesh.faces, face_normals);
       long rejected = 0;

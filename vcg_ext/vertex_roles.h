@@ -25,12 +25,23 @@ inline VertexRoles vertexRoles(const MeshArrays &mesh, const Rings &rings, doubl
   roles.frozen.assign(n, 0);
   roles.boundary_neighbours.assign(n, {-1, -1});
   const double min_area = 1e-12 * edge * edge;
-  for (const Face &f : mesh.faces) {
+  // Degenerate faces in parallel, their corners marked in face order.
+  const int m = int(mesh.faces.size());
+  std::vector<std::uint8_t> degenerate(m);
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
+  for (int g = 0; g < m; ++g) {
+    const Face &f = mesh.faces[g];
     const Vec3 &a = mesh.points[f[0]], &b = mesh.points[f[1]], &c = mesh.points[f[2]];
-    if (!(0.5 * (b - a).cross(c - a).norm() > min_area) || f[0] == f[1] || f[1] == f[2] ||
-        f[0] == f[2])
-      roles.frozen[f[0]] = roles.frozen[f[1]] = roles.frozen[f[2]] = 1;
+    degenerate[g] = !(0.5 * (b - a).cross(c - a).norm() > min_area) || f[0] == f[1] ||
+                    f[1] == f[2] || f[0] == f[2];
   }
+  for (int g = 0; g < m; ++g)
+    if (degenerate[g]) {
+      const Face &f = mesh.faces[g];
+      roles.frozen[f[0]] = roles.frozen[f[1]] = roles.frozen[f[2]] = 1;
+    }
+  // Per vertex: each writes its own entries.
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
   for (int v = 0; v < n; ++v) {
     if (rings.nonmanifold[v] || rings.isolated[v]) roles.frozen[v] = 1;
     if (!rings.boundary[v]) continue;

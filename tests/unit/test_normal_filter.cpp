@@ -6,6 +6,8 @@
 #include <vcg_ext/mesh_metrics.h>
 #include <vcg_ext/normal_filter.h>
 
+#include <random>
+
 using namespace vcg_ext;
 
 namespace {
@@ -161,4 +163,37 @@ TEST(NormalFilter, SameNormalsForOneAndTwoThreads) {
   filterNormals(noisy.faces, face_rings, g, NormalFilterParams(), 0.15, two);
   omp_set_num_threads(threads);
   EXPECT_EQ(one, two);
+}
+
+TEST(KthSmallest, TheValueNthElementFindsForAnyThreadCountAndBracket) {
+  // Above the parallel threshold (lowered here), with repeated values, a skewed distribution and
+  // a sorted run (a regular sample of it is the bracket's worst case), for 1 and 2 threads.
+  std::mt19937 rng(5);
+  std::lognormal_distribution<double> skewed(0.0, 2.0);
+  std::vector<double> values(200000);
+  for (size_t i = 0; i < values.size(); ++i)
+    values[i] = i < 50000 ? double(i) : i % 7 == 0 ? 3.0 : skewed(rng);
+  const int saved = omp_get_max_threads();
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    for (size_t k : {size_t(0), size_t(1), size_t(777), values.size() / 2, values.size() - 1}) {
+      std::vector<double> a = values, b = values;
+      std::nth_element(b.begin(), b.begin() + k, b.end());
+      EXPECT_EQ(detail::kthSmallest(a, k, 1000), b[k]) << "k " << k << ", " << threads << " threads";
+    }
+  }
+  omp_set_num_threads(saved);
+}
+
+TEST(EraseNaN, KeepsTheOtherValuesInOrderOnLargeArrays) {
+  // Above the parallel blocks' threshold: every third value NaN, one block all NaN.
+  std::vector<double> values(2000000);
+  std::vector<double> expected;
+  for (size_t i = 0; i < values.size(); ++i) {
+    const bool hole = i % 3 == 0 || (i >= 70000 && i < 70000 + 65536);
+    values[i] = hole ? NAN : double(i);
+    if (!hole) expected.push_back(double(i));
+  }
+  detail::eraseNaN(values);
+  EXPECT_EQ(values, expected);
 }
