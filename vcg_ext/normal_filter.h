@@ -175,7 +175,7 @@ inline void eraseNaN(std::vector<double> &values) {
     for (long i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i)
       start[b + 1] += !std::isnan(values[size_t(i)]);
   for (long b = 0; b < blocks; ++b) start[b + 1] += start[b];
-  std::vector<double> kept(size_t(start[blocks]));
+  std::vector<double> kept(static_cast<size_t>(start[blocks]));
 #pragma omp parallel for schedule(static)
   for (long b = 0; b < blocks; ++b) {
     long at = start[b];
