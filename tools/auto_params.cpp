@@ -83,6 +83,7 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   real("feature_confirmed_share", p.feature_confirmed_share);
   real("flat_deg", p.flat_deg);
   integer("max_windows", p.windows.max_windows); // 0: the evidence on the whole mesh
+  integer("min_windows", p.windows.min_windows);
   integer("core_rings", p.windows.core_rings);
   real("window_errors", p.window_errors);
   return r;
@@ -171,8 +172,8 @@ int main(int argc, char **argv) {
               ran, seconds, noise.level, feature ? feature->roughness : organic->roughness);
   for (size_t b = 0; b < noise.spectrum.size(); ++b)
     std::printf("%s%.4f", b ? ", " : "", noise.spectrum[b]);
-  std::printf("], \"flat_share\": %.4f, \"confirmed_share\": %.4f", a.evidence.flat_share,
-              a.evidence.confirmed_share);
+  std::printf("], \"flat_share\": %.4f, \"confirmed_share\": %.4f, \"crease_pairs\": %ld",
+              a.evidence.flat_share, a.evidence.confirmed_share, a.evidence.crease_pairs);
   if (a.windowed)
     std::printf(", \"windowed\": true, \"flat_error\": %.4f, \"confirmed_error\": %.4f",
                 a.flat_error, a.confirmed_error);

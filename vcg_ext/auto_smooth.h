@@ -105,6 +105,7 @@ inline AutoSmoothReport autoSmoothAsGiven(const MeshArrays &mesh, const AutoSmoo
   OrganicSmoothParams organic_params = params.organic;
   organic_params.selected_only = selected_only; // one set-up serves both drivers
   organic_params.boundary = params.feature.boundary;
+  if (progress && !progress(1, "Choosing the mode")) return report.cancelled = true, report;
   if (decideOnWindows(mesh, params, setup, report)) {
     if (report.chose_feature) {
       report.feature = featureSmoothAsGiven(mesh, params.feature, out_points, quantities, progress,

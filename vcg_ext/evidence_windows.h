@@ -32,8 +32,8 @@ struct EvidenceWindowParams {
   int core_rings = 24;  // the evidence is counted on faces within this many rings of a seed
   // As many windows (seed vertices, one per equal run of the spatial order) as take about
   // `face_share` of the mesh's faces, a window of r rings holding about 6 r² faces, within
-  // [min_windows, max_windows]: the more windows, the smaller the sample's error (on the 2.2M
-  // bunny, 48 windows left the confirmed share ±0.08, too close to decide on).
+  // [min_windows, max_windows]: the more windows, the smaller the sample's error (48 windows
+  // left the 2.2M bunny too close to decide on; bench/DECISION_WINDOWS.md).
   double face_share = 0.3;
   int min_windows = 8, max_windows = 1000;
   // Windows that would hold more than this share of the mesh's faces save too little: the
@@ -133,7 +133,6 @@ inline double pooledShareError(const std::vector<double> &share, const std::vect
 // the mesh's order, over their vertices in the mesh's order.
 struct MeshWindows {
   MeshArrays mesh;
-  std::vector<int> vertex;          // window vertex -> mesh vertex
   std::vector<int> face;            // window face -> mesh face
   std::vector<std::uint8_t> fixed;  // the mesh's movable flags, per window vertex
   std::vector<std::uint8_t> core;   // per window face: its corners within the core rings
@@ -148,8 +147,7 @@ inline MeshWindows meshWindows(const MeshArrays &mesh, const std::vector<std::ui
   std::vector<int> local(mesh.points.size(), -1);
   for (size_t v = 0; v < mesh.points.size(); ++v)
     if (distance[v] <= reach) {
-      local[v] = int(w.vertex.size());
-      w.vertex.push_back(int(v));
+      local[v] = int(w.mesh.points.size());
       w.mesh.points.push_back(mesh.points[v]);
       w.fixed.push_back(fixed[v]);
     }
@@ -190,6 +188,79 @@ inline void firstPassNormals(const MeshArrays &mesh, const Rings &rings, const F
   }
   computeFaceNormals(points, mesh.faces, reference);
 }
+
+namespace detail {
+
+// Per window, the evidence counts of its core faces (an edge counts for its lower face's window
+// when both faces are core, a flatness walk for the window it starts in): the windows in
+// parallel, each in face order, so integer counts that do not depend on the thread count.
+enum WindowCount {
+  kEdgeCount, kFlatEdgeCount, kCreaseCount, kConfirmedCount, kWalkCount, kFlatWalkCount, kCounts
+};
+using WindowTallies = std::vector<std::array<long, kCounts>>;
+
+inline WindowTallies windowTallies(const MeshWindows &w, int windows,
+                                   const std::vector<Vec3> &filtered,
+                                   const std::vector<Vec3> &reference, const FaceRings &face_rings,
+                                   const std::vector<Vec3> &centroids, int stride,
+                                   double crease_deg, double confirm_deg, double flat_deg) {
+  std::vector<std::vector<int>> members(windows);
+  for (int f = 0; f < int(w.core.size()); ++f)
+    if (w.core[f]) members[w.window[f]].push_back(f);
+  const double crease_cos = std::cos(crease_deg * M_PI / 180.0),
+               confirm_cos = std::cos(confirm_deg * M_PI / 180.0),
+               flat_cos = std::cos(flat_deg * M_PI / 180.0);
+  WindowTallies tally(windows);
+#pragma omp parallel for schedule(dynamic, 1) if (w.core.size() >= size_t(min_parallel_vertices))
+  for (int k = 0; k < windows; ++k) {
+    std::array<long, kCounts> t{};
+    for (int f : members[k]) {
+      for (int g : face_rings.edge_neighbours[f]) {
+        if (g <= f || !w.core[g]) continue;
+        const int flags = edgeEvidence(f, g, filtered, reference, crease_cos, confirm_cos, flat_cos);
+        t[kEdgeCount] += (flags & kEdge) != 0;
+        t[kFlatEdgeCount] += (flags & kFlat) != 0;
+        t[kCreaseCount] += (flags & kCrease) != 0;
+        t[kConfirmedCount] += (flags & kConfirmed) != 0;
+      }
+      for (int j = 0; j < 3 && stride > 1; ++j) {
+        const int walk = flatWalk(f, j, filtered, face_rings, centroids, stride, flat_cos);
+        t[kWalkCount] += walk >= 0;
+        t[kFlatWalkCount] += walk > 0;
+      }
+    }
+    tally[k] = t;
+  }
+  return tally;
+}
+
+// The pooled evidence (the windows' counts summed: modelScaleEvidence's counts on the cores) and
+// the shares' standard errors from their spread over the windows, into `out`.
+inline void poolWindowTallies(const WindowTallies &tally, int stride, WindowedEvidence &out) {
+  std::array<long, kCounts> sum{};
+  for (const auto &t : tally)
+    for (int i = 0; i < kCounts; ++i) sum[i] += t[i];
+  const int flat_part = stride > 1 ? kFlatWalkCount : kFlatEdgeCount,
+            flat_whole = stride > 1 ? kWalkCount : kEdgeCount;
+  auto share = [](long part, long whole) { return whole ? double(part) / double(whole) : 0.0; };
+  SharpFeatureEvidence &e = out.evidence;
+  e.edges = sum[kEdgeCount], e.flat_pairs = sum[kFlatEdgeCount], e.crease_pairs = sum[kCreaseCount];
+  e.confirmed_pairs = sum[kConfirmedCount];
+  e.flat_share = share(sum[flat_part], sum[flat_whole]);
+  e.confirmed_share = share(sum[kConfirmedCount], sum[kCreaseCount]);
+  const size_t windows = tally.size();
+  std::vector<double> flat(windows), flat_count(windows), confirmed(windows), creases(windows);
+  for (size_t k = 0; k < windows; ++k) {
+    flat[k] = share(tally[k][flat_part], tally[k][flat_whole]);
+    flat_count[k] = double(tally[k][flat_whole]);
+    confirmed[k] = share(tally[k][kConfirmedCount], tally[k][kCreaseCount]);
+    creases[k] = double(tally[k][kCreaseCount]);
+  }
+  out.flat_error = pooledShareError(flat, flat_count, e.flat_share);
+  out.confirmed_error = pooledShareError(confirmed, creases, e.confirmed_share);
+}
+
+} // namespace detail
 
 // The evidence on the windows' cores (see the file comment); `model_faces` of the whole mesh set
 // the flatness stride as modelScaleEvidence reads it there.
@@ -232,65 +303,13 @@ inline WindowedEvidence windowedEvidence(const MeshArrays &mesh, const detail::D
   std::vector<Vec3> centroids;
   if (stride > 1) computeFaceCentroids(w.mesh.points, w.mesh.faces, centroids);
   out.window_faces = long(w.mesh.faces.size());
-
-  // Per window, its core faces' evidence (an edge counts for its lower face's window when both
-  // faces are core; a walk for the window it starts in): the windows in parallel, each tally in
-  // face order, so integer counts that do not depend on the thread count. The pooled evidence is
-  // their sum, as modelScaleEvidence counts it on the cores.
-  const int count = int(seeds.size());
-  std::vector<std::vector<int>> members(count);
-  for (int f = 0; f < int(w.core.size()); ++f)
-    if (w.core[f]) members[w.window[f]].push_back(f);
-  enum { kEdges, kFlat, kCreases, kConfirmed, kWalks, kFlatWalks, kTallies };
-  std::vector<std::array<long, kTallies>> tally(count);
-  const double crease_cos = std::cos(crease_deg * M_PI / 180.0),
-               confirm_cos = std::cos(confirm_deg * M_PI / 180.0),
-               flat_cos = std::cos(flat_deg * M_PI / 180.0);
-#pragma omp parallel for schedule(dynamic, 1) if (out.window_faces >= min_parallel_vertices)
-  for (int k = 0; k < count; ++k) {
-    std::array<long, kTallies> t{};
-    for (int f : members[k]) {
-      for (int g : face_rings.edge_neighbours[f]) {
-        if (g <= f || !w.core[g]) continue;
-        const int flags =
-            detail::edgeEvidence(f, g, filtered, reference, crease_cos, confirm_cos, flat_cos);
-        t[kEdges] += (flags & detail::kEdge) != 0;
-        t[kFlat] += (flags & detail::kFlat) != 0;
-        t[kCreases] += (flags & detail::kCrease) != 0;
-        t[kConfirmed] += (flags & detail::kConfirmed) != 0;
-      }
-      for (int j = 0; j < 3 && stride > 1; ++j) {
-        const int walk = detail::flatWalk(f, j, filtered, face_rings, centroids, stride, flat_cos);
-        t[kWalks] += walk >= 0;
-        t[kFlatWalks] += walk > 0;
-      }
-    }
-    tally[k] = t;
-  }
-  std::array<long, kTallies> sum{};
-  for (const auto &t : tally)
-    for (int i = 0; i < kTallies; ++i) sum[i] += t[i];
-  for (const auto &list : members) out.core_faces += long(list.size());
-  const int flat_part = stride > 1 ? kFlatWalks : kFlat, flat_whole = stride > 1 ? kWalks : kEdges;
-  auto share = [](long part, long whole) { return whole ? double(part) / double(whole) : 0.0; };
-  SharpFeatureEvidence &e = out.evidence;
-  e.edges = sum[kEdges], e.flat_pairs = sum[kFlat], e.crease_pairs = sum[kCreases];
-  e.confirmed_pairs = sum[kConfirmed];
-  e.flat_stride = stride;
-  e.flat_share = share(sum[flat_part], sum[flat_whole]);
-  e.confirmed_share = share(sum[kConfirmed], sum[kCreases]);
+  for (std::uint8_t c : w.core) out.core_faces += c;
   out.used = true;
-
-  // The shares' standard errors from their spread over the windows.
-  std::vector<double> flat(count), flat_count(count), confirmed(count), creases(count);
-  for (int k = 0; k < count; ++k) {
-    flat[k] = share(tally[k][flat_part], tally[k][flat_whole]);
-    flat_count[k] = double(tally[k][flat_whole]);
-    confirmed[k] = share(tally[k][kConfirmed], tally[k][kCreases]);
-    creases[k] = double(tally[k][kCreases]);
-  }
-  out.flat_error = detail::pooledShareError(flat, flat_count, e.flat_share);
-  out.confirmed_error = detail::pooledShareError(confirmed, creases, e.confirmed_share);
+  out.evidence.flat_stride = stride;
+  detail::poolWindowTallies(
+      detail::windowTallies(w, int(seeds.size()), filtered, reference, face_rings, centroids,
+                            stride, crease_deg, confirm_deg, flat_deg),
+      stride, out);
   return out;
 }
 

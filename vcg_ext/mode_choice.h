@@ -17,7 +17,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <vector>
 
 namespace vcg_ext {
@@ -75,15 +74,12 @@ inline int flatWalk(int f, int j, const std::vector<Vec3> &filtered, const FaceR
 
 // The share of walks `stride` edges long (three from every face) whose end faces' filtered
 // normals are within acos(flat_cos); integer counts, so any thread count gives the same share.
-// `counted` (optional): the faces the walks start from.
 inline double flatShareAtStride(const std::vector<Vec3> &filtered, const FaceRings &face_rings,
-                                const std::vector<Vec3> &centroids, int stride, double flat_cos,
-                                const std::vector<std::uint8_t> *counted = nullptr) {
+                                const std::vector<Vec3> &centroids, int stride, double flat_cos) {
   const int m = int(filtered.size());
   long walks = 0, flat = 0;
 #pragma omp parallel for schedule(static) reduction(+ : walks, flat) if (m >= min_parallel_vertices)
   for (int f = 0; f < m; ++f) {
-    if (counted && !(*counted)[f]) continue;
     for (int j = 0; j < 3; ++j) {
       const int w = flatWalk(f, j, filtered, face_rings, centroids, stride, flat_cos);
       walks += w >= 0;
@@ -117,15 +113,13 @@ inline int edgeEvidence(int f, int g, const std::vector<Vec3> &filtered,
 // `filtered`: per-face unit normals after guided filtering; `smoothed`: per-face unit normals of a
 // plainly smoothed copy of the mesh. Faces with a zero normal (degenerate) are skipped. Counts each
 // interior edge once, so the result does not depend on vertex or face order. Edge by edge; the
-// automatic choice reads it through modelScaleEvidence. `counted` (optional): only the edges
-// between two of these faces count.
+// automatic choice reads it through modelScaleEvidence.
 inline SharpFeatureEvidence sharpFeatureEvidence(const std::vector<Vec3> &filtered,
                                                  const std::vector<Vec3> &smoothed,
                                                  const FaceRings &face_rings,
                                                  double crease_deg = 30.0,
                                                  double confirm_deg = 20.0,
-                                                 double flat_deg = 1.0,
-                                                 const std::vector<std::uint8_t> *counted = nullptr) {
+                                                 double flat_deg = 1.0) {
   SharpFeatureEvidence e;
   const double crease_cos = std::cos(crease_deg * M_PI / 180.0);
   const double confirm_cos = std::cos(confirm_deg * M_PI / 180.0);
@@ -137,7 +131,6 @@ inline SharpFeatureEvidence sharpFeatureEvidence(const std::vector<Vec3> &filter
   for (int f = 0; f < m; ++f) {
     for (int g : face_rings.edge_neighbours[f]) {
       if (g <= f) continue; // each edge once; −1 (boundary) too
-      if (counted && !((*counted)[f] && (*counted)[g])) continue;
       const int flags =
           detail::edgeEvidence(f, g, filtered, smoothed, crease_cos, confirm_cos, flat_cos);
       edges += (flags & detail::kEdge) != 0;
@@ -155,24 +148,20 @@ inline SharpFeatureEvidence sharpFeatureEvidence(const std::vector<Vec3> &filter
 // sharpFeatureEvidence as the automatic choice reads it: on meshes fine enough for a stride above 1
 // (flatnessStride) the flat share compares faces that many edges apart instead of neighbours
 // (`points`, `faces`: the mesh whose face centroids guide the walks), and says so in flat_stride.
-// `model_faces`: the face count the stride is read from (the whole mesh's, when `faces` is a part
-// of it); `counted` (optional): the faces the evidence is taken on (sharpFeatureEvidence).
 inline SharpFeatureEvidence modelScaleEvidence(const std::vector<Vec3> &filtered,
                                                const std::vector<Vec3> &smoothed,
                                                const FaceRings &face_rings,
                                                const std::vector<Vec3> &points,
                                                const std::vector<Face> &faces, double crease_deg,
-                                               double confirm_deg, double flat_deg,
-                                               size_t model_faces = 0,
-                                               const std::vector<std::uint8_t> *counted = nullptr) {
-  SharpFeatureEvidence e = sharpFeatureEvidence(filtered, smoothed, face_rings, crease_deg,
-                                                confirm_deg, flat_deg, counted);
-  e.flat_stride = flatnessStride(model_faces ? model_faces : faces.size());
+                                               double confirm_deg, double flat_deg) {
+  SharpFeatureEvidence e =
+      sharpFeatureEvidence(filtered, smoothed, face_rings, crease_deg, confirm_deg, flat_deg);
+  e.flat_stride = flatnessStride(faces.size());
   if (e.flat_stride > 1) {
     std::vector<Vec3> centroids;
     computeFaceCentroids(points, faces, centroids);
     e.flat_share = detail::flatShareAtStride(filtered, face_rings, centroids, e.flat_stride,
-                                             std::cos(flat_deg * M_PI / 180.0), counted);
+                                             std::cos(flat_deg * M_PI / 180.0));
   }
   return e;
 }
