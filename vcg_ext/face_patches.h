@@ -17,9 +17,6 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
 
 namespace vcg_ext {
 
@@ -116,47 +113,28 @@ inline const Eigen::Matrix<double, 9, 9> &thinPlateMatrix() {
 }
 
 // M += w a aᵀ on the lower triangle only (what LDLT<·, Lower> reads); column-major, so the inner
-// loop runs down a column.
-inline void addLowerOuter(Eigen::Matrix<double, 9, 9> &M, double w, const HeightCoefficients &a) {
+// loop runs down a column. `a` holds 9 values.
+inline void addLowerOuter(Eigen::Matrix<double, 9, 9> &M, double w, const double *a) {
   double *m = M.data();
-  const double *v = a.data();
   for (int j = 0; j < 9; ++j) {
-    const double s = w * v[j];
+    const double s = w * a[j];
     double *column = m + 9 * j;
-    int i = j;
-#ifdef __SSE2__
-    // Two rows at a time: the same product and sum per entry as the scalar loop.
-    const __m128d sv = _mm_set1_pd(s);
-    for (; i + 1 < 9; i += 2)
-      _mm_storeu_pd(column + i, _mm_add_pd(_mm_loadu_pd(column + i), _mm_mul_pd(sv, _mm_loadu_pd(v + i))));
-#endif
-    for (; i < 9; ++i) column[i] += s * v[i];
+    for (int i = j; i < 9; ++i) column[i] += s * a[i];
   }
 }
 
 // addLowerOuter three times (w0 a0 a0ᵀ, then w1 a1 a1ᵀ, then w2 a2 a2ᵀ) in one sweep of M: each
 // entry takes the same three products in the same order, so the same bits, a third of the traffic.
-inline void addLowerOuter3(Eigen::Matrix<double, 9, 9> &M, double w0, const HeightCoefficients &a0,
-                           double w1, const HeightCoefficients &a1, double w2,
-                           const HeightCoefficients &a2) {
+inline void addLowerOuter3(Eigen::Matrix<double, 9, 9> &M, double w0, const double *a0, double w1,
+                           const double *a1, double w2, const double *a2) {
   double *m = M.data();
-  const double *u = a0.data(), *v = a1.data(), *x = a2.data();
   for (int j = 0; j < 9; ++j) {
-    const double s0 = w0 * u[j], s1 = w1 * v[j], s2 = w2 * x[j];
+    const double s0 = w0 * a0[j], s1 = w1 * a1[j], s2 = w2 * a2[j];
     double *column = m + 9 * j;
-    int i = j;
-#ifdef __SSE2__
-    const __m128d t0 = _mm_set1_pd(s0), t1 = _mm_set1_pd(s1), t2 = _mm_set1_pd(s2);
-    for (; i + 1 < 9; i += 2) {
-      __m128d c = _mm_add_pd(_mm_loadu_pd(column + i), _mm_mul_pd(t0, _mm_loadu_pd(u + i)));
-      c = _mm_add_pd(c, _mm_mul_pd(t1, _mm_loadu_pd(v + i)));
-      _mm_storeu_pd(column + i, _mm_add_pd(c, _mm_mul_pd(t2, _mm_loadu_pd(x + i))));
-    }
-#endif
-    for (; i < 9; ++i) {
-      double c = column[i] + s0 * u[i];
-      c += s1 * v[i];
-      column[i] = c + s2 * x[i];
+    for (int i = j; i < 9; ++i) {
+      double c = column[i] + s0 * a0[i];
+      c += s1 * a1[i];
+      column[i] = c + s2 * a2[i];
     }
   }
 }
@@ -193,15 +171,21 @@ bool fitFacePatchAt(int f, const Vec3 &centroid, const std::vector<Vec3> &points
     // reproduce that plane where it interpolates g's corners (the mean of the patch at the corners,
     // the gradient of the linear interpolant), not at the centroid: a centroid lies below a convex
     // surface by about h²κ/6, and fitting centroids would sink the mesh a little every pass.
-    double x[3], y[3], z[3];
-    HeightCoefficients corner[3];
+    // The rows are plain arrays, written and read element by element: built as Eigen 9-vectors
+    // (scalar stores) and read in pairs, every pair stalled on store forwarding (the fit's hottest
+    // instructions). The arithmetic per element is Eigen's, so the bits are the same.
+    double x[3], y[3], z[3], corner[3][9];
     for (int k = 0; k < 3; ++k) {
       const Vec3 d = (points[faces[*g][k]] - out.origin) / mean_edge;
       x[k] = d.dot(e1), y[k] = d.dot(e2), z[k] = d.dot(n);
-      corner[k] = FacePatch::basis(x[k], y[k]);
+      const double px[3] = {1, x[k], x[k] * x[k]}, py[3] = {1, y[k], y[k] * y[k]};
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) corner[k][3 * a + c] = px[a] * py[c];
     }
-    const HeightCoefficients b = (corner[0] + corner[1] + corner[2]) / 3.0;
-    rhs.noalias() += (w * (z[0] + z[1] + z[2]) / 3.0) * b;
+    double b[9];
+    for (int i = 0; i < 9; ++i) b[i] = (corner[0][i] + corner[1][i] + corner[2][i]) / 3.0;
+    const double height = w * (z[0] + z[1] + z[2]) / 3.0;
+    for (int i = 0; i < 9; ++i) rhs[i] += height * b[i];
     total += w;
     const double along = m.dot(n);
     const double ax = x[1] - x[0], ay = y[1] - y[0], bx = x[2] - x[0], by = y[2] - y[0];
@@ -210,12 +194,17 @@ bool fitFacePatchAt(int f, const Vec3 &centroid, const std::vector<Vec3> &points
     // Slopes only where g's projection is a fair, unfolded triangle and m is not steep.
     if (along > 0.5 && params.slope_weight > 0 && det > 0.3 * true_area) {
       // The interpolant's gradient: J g = (h1 − h0, h2 − h0), J = [ax ay; bx by].
-      const HeightCoefficients d1 = corner[1] - corner[0], d2 = corner[2] - corner[0];
-      const HeightCoefficients gx = (by * d1 - ay * d2) / det, gy = (-bx * d1 + ax * d2) / det;
+      double gx[9], gy[9];
+      for (int i = 0; i < 9; ++i) {
+        const double d1 = corner[1][i] - corner[0][i], d2 = corner[2][i] - corner[0][i];
+        gx[i] = (by * d1 - ay * d2) / det;
+        gy[i] = (-bx * d1 + ax * d2) / det;
+      }
       // The height field whose normal is m has gradient −(m·e1, m·e2)/(m·n).
       const double ws = w * params.slope_weight;
       detail::addLowerOuter3(M, w, b, ws, gx, ws, gy);
-      rhs.noalias() += ws * (-m.dot(e1) / along) * gx + ws * (-m.dot(e2) / along) * gy;
+      const double sx = ws * (-m.dot(e1) / along), sy = ws * (-m.dot(e2) / along);
+      for (int i = 0; i < 9; ++i) rhs[i] += sx * gx[i] + sy * gy[i];
     } else {
       detail::addLowerOuter(M, w, b);
     }
