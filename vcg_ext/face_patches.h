@@ -143,12 +143,13 @@ inline void addLowerOuter3(Eigen::Matrix<double, 9, 9> &M, double w0, const doub
 
 namespace detail {
 
-// fitFacePatch with the face's centroid given and the faces' areas read through `area(g)`.
+// fitFacePatch with the face's centroid given, its ring as the range [ring, ring_end) and the
+// faces' areas read through `area(g)`.
 template <class AreaOf>
 bool fitFacePatchAt(int f, const Vec3 &centroid, const std::vector<Vec3> &points,
-                    const std::vector<Face> &faces, const FaceRings &face_rings, AreaOf area,
-                    const std::vector<Vec3> &filtered, double mean_area, double mean_edge,
-                    const FacePatchParams &params, FacePatch &out) {
+                    const std::vector<Face> &faces, const int *ring, const int *ring_end,
+                    AreaOf area, const std::vector<Vec3> &filtered, double mean_area,
+                    double mean_edge, const FacePatchParams &params, FacePatch &out) {
   const Vec3 &n = filtered[f];
   out.origin = centroid;
   out.unit = mean_edge;
@@ -163,7 +164,7 @@ bool fitFacePatchAt(int f, const Vec3 &centroid, const std::vector<Vec3> &points
   HeightCoefficients rhs = HeightCoefficients::Zero();
   const double range = -0.5 / (params.sigma * params.sigma);
   double total = 0;
-  for (const int *g = face_rings.begin(f); g != face_rings.end(f); ++g) {
+  for (const int *g = ring; g != ring_end; ++g) {
     const Vec3 &m = filtered[*g];
     const double w = area(*g) / mean_area * rangeKernel(range * (n - m).squaredNorm());
     if (!(w > 1e-12)) continue;
@@ -240,7 +241,7 @@ inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vect
                          const std::vector<Vec3> &filtered, double mean_area, double mean_edge,
                          const FacePatchParams &params, FacePatch &out) {
   return detail::fitFacePatchAt(
-      f, geometry.centroid[f], points, faces, face_rings,
+      f, geometry.centroid[f], points, faces, face_rings.begin(f), face_rings.end(f),
       [&](int g) { return geometry.area[g]; }, filtered, mean_area, mean_edge, params, out);
 }
 
@@ -272,13 +273,15 @@ struct FacePatches {
   }
 };
 
-// Fits every face's patch from `normals` (filtered or the faces' own); `face_alpha`, when not
-// empty, replaces params.alpha per face. Returns how many fits fell back to the face's plane.
-// The faces' areas and centroids are computed here as computeFaceGeometry does (same values).
-inline long fitFacePatches(const std::vector<Vec3> &points, const std::vector<Face> &faces,
-                           const FaceRings &face_rings, const std::vector<Vec3> &normals,
-                           double mean_edge, const FacePatchParams &params,
-                           const std::vector<double> &face_alpha, FacePatches &patches) {
+namespace detail {
+
+// fitFacePatches with face f's ring from `ring_of(f, scratch)`, a pair of pointers (into the
+// FaceRings, or into `scratch` when the ring is merged on the fly).
+template <class RingOf>
+long fitFacePatchesWith(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                        RingOf ring_of, const std::vector<Vec3> &normals, double mean_edge,
+                        const FacePatchParams &params, const std::vector<double> &face_alpha,
+                        FacePatches &patches) {
   const int face_count = int(faces.size());
   patches.c.resize(face_count);
   patches.curved.resize(face_count);
@@ -296,18 +299,60 @@ inline long fitFacePatches(const std::vector<Vec3> &points, const std::vector<Fa
   double mean_area = 0;
   for (double a : area) mean_area += a / face_count;
   long fallbacks = 0;
-#pragma omp parallel for schedule(static) reduction(+ : fallbacks) if (face_count >= min_parallel_vertices)
-  for (int f = 0; f < face_count; ++f) {
-    FacePatchParams own = params;
-    if (!face_alpha.empty()) own.alpha = face_alpha[f];
-    FacePatch fitted;
-    fallbacks += !detail::fitFacePatchAt(f, detail::faceCentroid(points, faces[f]), points, faces,
-                                         face_rings, [&](int g) { return area[g]; }, normals,
-                                         mean_area, mean_edge, own, fitted);
-    patches.c[f] = fitted.c.cast<float>();
-    patches.curved[f] = fitted.curved;
+#pragma omp parallel reduction(+ : fallbacks) if (face_count >= min_parallel_vertices)
+  {
+    std::vector<int> scratch;
+#pragma omp for schedule(static)
+    for (int f = 0; f < face_count; ++f) {
+      FacePatchParams own = params;
+      if (!face_alpha.empty()) own.alpha = face_alpha[f];
+      FacePatch fitted;
+      const std::pair<const int *, const int *> ring = ring_of(f, scratch);
+      fallbacks += !detail::fitFacePatchAt(f, detail::faceCentroid(points, faces[f]), points,
+                                           faces, ring.first, ring.second,
+                                           [&](int g) { return area[g]; }, normals, mean_area,
+                                           mean_edge, own, fitted);
+      patches.c[f] = fitted.c.cast<float>();
+      patches.curved[f] = fitted.curved;
+    }
   }
   return fallbacks;
+}
+
+} // namespace detail
+
+// Fits every face's patch from `normals` (filtered or the faces' own); `face_alpha`, when not
+// empty, replaces params.alpha per face. Returns how many fits fell back to the face's plane.
+// The faces' areas and centroids are computed here as computeFaceGeometry does (same values).
+inline long fitFacePatches(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                           const FaceRings &face_rings, const std::vector<Vec3> &normals,
+                           double mean_edge, const FacePatchParams &params,
+                           const std::vector<double> &face_alpha, FacePatches &patches) {
+  return detail::fitFacePatchesWith(
+      points, faces,
+      [&](int f, std::vector<int> &) { return std::make_pair(face_rings.begin(f), face_rings.end(f)); },
+      normals, mean_edge, params, face_alpha, patches);
+}
+
+// The same without FaceRings: each face's ring merged from its corners' face lists when its patch
+// is fitted (the same faces in the same order as computeFaceRings lists them, so the same
+// patches), which saves building and holding the rings (13 faces per face) for a single fit.
+inline long fitFacePatches(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                           const Rings &rings, const std::vector<Vec3> &normals, double mean_edge,
+                           const FacePatchParams &params, const std::vector<double> &face_alpha,
+                           FacePatches &patches) {
+  return detail::fitFacePatchesWith(
+      points, faces,
+      [&](int f, std::vector<int> &scratch) {
+        scratch.clear();
+        const Face &t = faces[f];
+        detail::mergeSortedUnique(rings.facesBegin(t[0]), rings.facesEnd(t[0]),
+                                  rings.facesBegin(t[1]), rings.facesEnd(t[1]),
+                                  rings.facesBegin(t[2]), rings.facesEnd(t[2]), scratch);
+        return std::make_pair<const int *, const int *>(scratch.data(),
+                                                         scratch.data() + scratch.size());
+      },
+      normals, mean_edge, params, face_alpha, patches);
 }
 
 // The paper's α rule moved to face patches: per face, the smallest over the largest saliency of

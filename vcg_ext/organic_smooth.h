@@ -115,8 +115,8 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     // Asked for more than measured: at least a tenth of an edge length per strength unit above 1.
     bands.min_noise_edges = std::max(0.0, params.strength - 1) * params.noise_edges_per_strength;
     if (params.coloured_noise) bands.noise_colour = noiseColour(setup.noise, bands.band_pairs, params.colour);
-    // The band shrinkage, this mode's peak memory, reads no face rings: they are made again for
-    // the patch update (a fraction of a second per million faces, against ~136 bytes per vertex).
+    // The band shrinkage, this mode's peak memory, reads no face rings, nor does the patch update
+    // (its fit merges each face's ring when it needs it): ~136 bytes per vertex freed.
     setup.face_rings = FaceRings();
     report.bands = bandShrinkSmooth(current, mesh.faces, rings, fixed, roles.boundary_neighbours,
                                     bands, [&](double fraction) {
@@ -137,7 +137,8 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     report.patch_step = 1.0 - report.bands.detail;
     const int patch_updates = report.patch_step > 0 ? params.max_patch_updates : 0;
     report.patch_updates = patch_updates;
-    if (patch_updates > 0)
+    // The paper's α rule reads the face rings (faceAlphaFromSaliency).
+    if (patch_updates > 0 && !params.alpha_override)
       setup.face_rings = computeFaceRings(mesh.faces, rings, /*with_edge_neighbours=*/false);
     for (int update = 0; update < patch_updates; ++update) {
       computeFaceNormals(current, mesh.faces, face_normals);
@@ -146,8 +147,8 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
           params.alpha_override ? std::vector<double>()
                                 : detail::saliencyFaceAlpha(current, mesh.faces, setup,
                                                             params.saliency_scale * setup.stats.bbox_diagonal);
-      const long fallbacks = fitFacePatches(current, mesh.faces, setup.face_rings, face_normals,
-                                            edge, params.patches, face_alpha, patches);
+      const long fallbacks = fitFacePatches(current, mesh.faces, rings, face_normals, edge,
+                                            params.patches, face_alpha, patches);
       if (report.boundary_vertices)
         computeBoundaryVertexNormals(current, mesh.faces, rings, vertex_normals);
 #pragma omp parallel for schedule(static) reduction(+ : rejected) if (n >= min_parallel_vertices)
