@@ -243,12 +243,16 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
     report.gains.assign(bands, 1.0);
     return report;
   }
-  auto hashed_probe = [&](std::uint64_t stream, std::vector<Vec3> &probe) {
+  // The probe is kept in single precision: only its band energies are read (sums of squares in
+  // double), and the rounding noise of its Taubin steps, ~1e-7 of its values, lies orders of
+  // magnitude below the energy of even its coarsest band; half the probe's memory traffic, which
+  // is half of every step's.
+  auto hashed_probe = [&](std::uint64_t stream, std::vector<Vec3f> &probe) {
     probe.resize(n);
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
     for (int v = 0; v < n; ++v)
       probe[taubin.local(v)] =
-          report.noise_sigma * detail::positionHashedGaussian(probe_key(v), stream);
+          (report.noise_sigma * detail::positionHashedGaussian(probe_key(v), stream)).cast<float>();
   };
   const double lambda = params.lambda, mu = params.mu;
   // Boundary vertices stop following their curve from band `boundary_pairs` on.
@@ -258,7 +262,8 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   // anything the gains resolve), and the coarsest snapshot in double: 12 instead of 24 bytes per
   // vertex and band.
   std::vector<std::vector<Eigen::Vector3f>> band(bands);
-  std::vector<Vec3> probe, probe_previous, coarse = taubin.toLocal(points), previous;
+  std::vector<Vec3f> probe, probe_previous;
+  std::vector<Vec3> coarse = taubin.toLocal(points), previous;
   hashed_probe(0, probe);
   std::vector<double> noise_energy(bands, 0.0), noise_trimmed(bands, 0.0), values;
   // Mean of the values below the robust quantile (reorders x).
@@ -276,7 +281,7 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   const auto normal_at =
       std::find(edges.begin(), edges.end(), params.normal_pairs) - edges.begin();
   auto take_normals = [&] { computeVertexNormals(taubin.toGlobal(coarse), faces, rings, normals); };
-  taubin.smooth({&coarse, &probe}, edges[0], lambda, mu);
+  taubin.smooth({&coarse}, {&probe}, edges[0], lambda, mu);
   if (normal_at == 0) take_normals();
   for (int b = 0; b < bands; ++b) {
     // Long bands as a Chebyshev series of their pairs (taubin_chebyshev.h): the two coarsest
@@ -285,14 +290,14 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
     const std::vector<double> series =
         params.chebyshev ? taubinChebyshevCoefficients(pairs, lambda, mu) : std::vector<double>();
     if (params.chebyshev && chebyshevPays(series, pairs)) {
-      taubin.applyChebyshev({&coarse, &probe}, {&previous, &probe_previous}, series,
+      taubin.applyChebyshev({&coarse}, {&previous}, {&probe}, {&probe_previous}, series,
                             boundary_still(b));
       coarse.swap(previous);
       probe.swap(probe_previous);
     } else {
       previous = coarse;
       probe_previous = probe;
-      taubin.smooth({&coarse, &probe}, pairs, lambda, mu, boundary_still(b));
+      taubin.smooth({&coarse}, {&probe}, pairs, lambda, mu, boundary_still(b));
     }
     band[b].resize(n);
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
@@ -304,9 +309,10 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
     for (int v = 0; v < n; ++v)
       if (counted[v]) {
         const int l = taubin.local(v);
-        noise_energy[b] += (probe_previous[l] - probe[l]).squaredNorm() / 3.0;
+        const Vec3 difference = probe_previous[l].cast<double>() - probe[l].cast<double>();
+        noise_energy[b] += difference.squaredNorm() / 3.0;
         if (trim_band(b))
-          for (int k = 0; k < 3; ++k) values.push_back(std::pow(probe_previous[l][k] - probe[l][k], 2));
+          for (int k = 0; k < 3; ++k) values.push_back(difference[k] * difference[k]);
       }
     if (trim_band(b)) noise_trimmed[b] = trimmed_mean(values);
     if (progress && !progress(0.9 * (b + 1) / bands)) {
@@ -334,15 +340,15 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   report.fine_band_probes = probes;
   for (int extra = 1; extra < probes; ++extra) {
     hashed_probe(extra, probe);
-    taubin.smooth({&probe}, edges[0], lambda, mu);
+    taubin.smooth({}, {&probe}, edges[0], lambda, mu);
     for (int b = 0; b < fine; ++b)
-      taubin.smooth({&probe}, edges[b + 1] - edges[b], lambda, mu, boundary_still(b));
+      taubin.smooth({}, {&probe}, edges[b + 1] - edges[b], lambda, mu, boundary_still(b));
     probe_previous = probe;
-    taubin.smooth({&probe}, edges[fine + 1] - edges[fine], lambda, mu, boundary_still(fine));
+    taubin.smooth({}, {&probe}, edges[fine + 1] - edges[fine], lambda, mu, boundary_still(fine));
     for (int v = 0; v < n; ++v)
       if (counted[v]) {
         const int l = taubin.local(v);
-        fine_noise += (probe_previous[l] - probe[l]).squaredNorm() / 3.0;
+        fine_noise += (probe_previous[l].cast<double>() - probe[l].cast<double>()).squaredNorm() / 3.0;
       }
   }
   fine_noise /= probes;

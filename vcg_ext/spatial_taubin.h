@@ -23,6 +23,8 @@
 
 namespace vcg_ext {
 
+using Vec3f = Eigen::Vector3f;
+
 class SpatialTaubin {
 public:
   SpatialTaubin(const std::vector<Vec3> &points, const Rings &rings,
@@ -75,23 +77,30 @@ public:
   // they are instead of following their curve.
   void smooth(const std::vector<std::vector<Vec3> *> &fields, int pairs, double lambda, double mu,
               bool boundary_still = false) const {
-    const int count = int(fields.size());
+    smooth(fields, {}, pairs, lambda, mu, boundary_still);
+  }
+
+  // The same on double and single precision fields in one sweep (one read of the graph for all):
+  // single precision serves fields whose values are only summed into energies (the band
+  // shrinkage's probe), at half the memory traffic.
+  void smooth(const std::vector<std::vector<Vec3> *> &fields,
+              const std::vector<std::vector<Vec3f> *> &float_fields, int pairs, double lambda,
+              double mu, bool boundary_still = false) const {
+    const int count = int(fields.size()), float_count = int(float_fields.size());
     // The step's output buffers are kept between calls (a band shrinkage makes dozens of calls).
-    std::vector<std::vector<Vec3>> &next = next_;
-    if (int(next.size()) < count) next.resize(count);
-    for (int k = 0; k < count; ++k) next[k].resize(n_);
+    reserveBuffers(next_, count);
+    reserveBuffers(next_float_, float_count);
     for (int step = 0; step < 2 * pairs; ++step) {
       const double factor = step % 2 == 0 ? lambda : mu;
 #pragma omp parallel for schedule(static) if (n_ >= min_parallel_vertices)
       for (int l = 0; l < n_; ++l) {
         const Kind kind = kindOf(l, boundary_still);
-        for (int k = 0; k < count; ++k) {
-          const std::vector<Vec3> &p = *fields[k];
-          // The arithmetic of taubinSmooth, operation for operation.
-          next[k][l] = kind == Kind::Still ? p[l] : Vec3(p[l] + factor * (average(p, l, kind) - p[l]));
-        }
+        for (int k = 0; k < count; ++k) next_[k][l] = stepAt(*fields[k], l, kind, factor);
+        for (int k = 0; k < float_count; ++k)
+          next_float_[k][l] = stepAt(*float_fields[k], l, kind, float(factor));
       }
-      for (int k = 0; k < count; ++k) fields[k]->swap(next[k]);
+      for (int k = 0; k < count; ++k) fields[k]->swap(next_[k]);
+      for (int k = 0; k < float_count; ++k) float_fields[k]->swap(next_float_[k]);
     }
   }
 
@@ -102,45 +111,51 @@ public:
   // their input values exactly. Sums are taken relative to each field's bounding-box centre, so
   // the truncation error scales with the field's extent, not with its distance from the origin.
   // Inputs and outputs are distinct fields in local order; each vertex's arithmetic is fixed, so the
-  // result does not depend on the thread count.
+  // result does not depend on the thread count. The float fields (as in smooth) run the same
+  // recurrence in single precision.
   void applyChebyshev(const std::vector<const std::vector<Vec3> *> &inputs,
                       const std::vector<std::vector<Vec3> *> &outputs,
                       const std::vector<double> &c, bool boundary_still = false) const {
-    const int count = int(inputs.size()), degree = int(c.size()) - 1;
-    std::vector<std::vector<Vec3>> &scratch = next_;
-    if (int(scratch.size()) < count) scratch.resize(count);
+    applyChebyshev(inputs, outputs, {}, {}, c, boundary_still);
+  }
+
+  void applyChebyshev(const std::vector<const std::vector<Vec3> *> &inputs,
+                      const std::vector<std::vector<Vec3> *> &outputs,
+                      const std::vector<const std::vector<Vec3f> *> &float_inputs,
+                      const std::vector<std::vector<Vec3f> *> &float_outputs,
+                      const std::vector<double> &c, bool boundary_still = false) const {
+    const int count = int(inputs.size()), float_count = int(float_inputs.size());
+    const int degree = int(c.size()) - 1;
+    reserveBuffers(next_, count);
+    reserveBuffers(next_float_, float_count);
     std::vector<Vec3> centre(count);
-    for (int k = 0; k < count; ++k) {
-      Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
-      for (const Vec3 &x : *inputs[k])
-        if (x.allFinite()) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
-      centre[k] = lo.allFinite() ? Vec3(0.5 * (lo + hi)) : Vec3::Zero();
-      scratch[k].assign(n_, Vec3::Zero()); // b_{j+1}
-      outputs[k]->assign(n_, Vec3::Zero()); // b_{j+2}, then b_j in place, at last the result
-    }
+    std::vector<Vec3f> float_centre(float_count);
+    for (int k = 0; k < count; ++k) centre[k] = clenshawStart(*inputs[k], next_[k], *outputs[k]);
+    for (int k = 0; k < float_count; ++k)
+      float_centre[k] = clenshawStart(*float_inputs[k], next_float_[k], *float_outputs[k]);
     for (int j = degree; j >= 1; --j) {
       const double cj = c[j];
 #pragma omp parallel for schedule(static) if (n_ >= min_parallel_vertices)
       for (int l = 0; l < n_; ++l) {
         const Kind kind = kindOf(l, boundary_still);
-        for (int k = 0; k < count; ++k) {
-          Vec3 &b = (*outputs[k])[l]; // b_{j+2} in, b_j out
-          b = cj * ((*inputs[k])[l] - centre[k]) + 2.0 * average(scratch[k], l, kind) - b;
-        }
+        for (int k = 0; k < count; ++k)
+          clenshawStep(cj, *inputs[k], centre[k], next_[k], *outputs[k], l, kind);
+        for (int k = 0; k < float_count; ++k)
+          clenshawStep(float(cj), *float_inputs[k], float_centre[k], next_float_[k],
+                       *float_outputs[k], l, kind);
       }
-      for (int k = 0; k < count; ++k) scratch[k].swap(*outputs[k]);
+      for (int k = 0; k < count; ++k) next_[k].swap(*outputs[k]);
+      for (int k = 0; k < float_count; ++k) next_float_[k].swap(*float_outputs[k]);
     }
     // scratch = b_1, outputs = b_2: the result c_0 x + P b_1 − b_2, in place of b_2.
 #pragma omp parallel for schedule(static) if (n_ >= min_parallel_vertices)
     for (int l = 0; l < n_; ++l) {
       const Kind kind = kindOf(l, boundary_still);
-      for (int k = 0; k < count; ++k) {
-        const Vec3 &x = (*inputs[k])[l];
-        Vec3 &out = (*outputs[k])[l];
-        out = kind == Kind::Still
-                  ? x
-                  : Vec3(centre[k] + (c[0] * (x - centre[k]) + average(scratch[k], l, kind) - out));
-      }
+      for (int k = 0; k < count; ++k)
+        clenshawEnd(c[0], *inputs[k], centre[k], next_[k], *outputs[k], l, kind);
+      for (int k = 0; k < float_count; ++k)
+        clenshawEnd(float(c[0]), *float_inputs[k], float_centre[k], next_float_[k],
+                    *float_outputs[k], l, kind);
     }
   }
 
@@ -152,19 +167,55 @@ private:
   }
   // (P b)[l], the 1-ring averaging of a step: the mean of l's neighbours in its ring's order (of
   // its two curve neighbours on a boundary); b[l] where l is still.
-  Vec3 average(const std::vector<Vec3> &b, int l, Kind kind) const {
+  template <class V> V average(const std::vector<V> &b, int l, Kind kind) const {
+    using S = typename V::Scalar;
     const int *begin = neighbours_.data() + offsets_[l], *end = neighbours_.data() + offsets_[l + 1];
     if (kind == Kind::Still) return b[l];
-    if (kind == Kind::Curve) return 0.5 * (b[begin[0]] + b[begin[1]]);
-    Vec3 sum = Vec3::Zero();
+    if (kind == Kind::Curve) return S(0.5) * (b[begin[0]] + b[begin[1]]);
+    V sum = V::Zero();
     for (const int *w = begin; w != end; ++w) sum += b[*w];
-    return sum / int(end - begin);
+    return sum / S(end - begin);
+  }
+  // One smooth() step at l: the arithmetic of taubinSmooth, operation for operation.
+  template <class V, class S>
+  V stepAt(const std::vector<V> &p, int l, Kind kind, S factor) const {
+    return kind == Kind::Still ? p[l] : V(p[l] + factor * (average(p, l, kind) - p[l]));
+  }
+  // Clenshaw's start: b_{j+1} = b_{j+2} = 0; returns the field's bounding-box centre.
+  template <class V>
+  V clenshawStart(const std::vector<V> &input, std::vector<V> &scratch, std::vector<V> &out) const {
+    using S = typename V::Scalar;
+    V lo = V::Constant(S(INFINITY)), hi = V::Constant(S(-INFINITY));
+    for (const V &x : input)
+      if (x.allFinite()) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+    scratch.assign(n_, V::Zero()); // b_{j+1}
+    out.assign(n_, V::Zero());     // b_{j+2}, then b_j in place, at last the result
+    return lo.allFinite() ? V(S(0.5) * (lo + hi)) : V::Zero();
+  }
+  // b_j = c_j (x − centre) + 2 P b_{j+1} − b_{j+2}, written over b_{j+2} in `b`.
+  template <class V, class S>
+  void clenshawStep(S cj, const std::vector<V> &input, const V &centre, const std::vector<V> &next,
+                    std::vector<V> &b, int l, Kind kind) const {
+    b[l] = cj * (input[l] - centre) + S(2) * average(next, l, kind) - b[l];
+  }
+  // The result c_0 x + P b_1 − b_2 (b_1 in `next`, b_2 in `out`), in place of b_2.
+  template <class V, class S>
+  void clenshawEnd(S c0, const std::vector<V> &input, const V &centre, const std::vector<V> &next,
+                   std::vector<V> &out, int l, Kind kind) const {
+    const V &x = input[l];
+    out[l] = kind == Kind::Still ? x : V(centre + (c0 * (x - centre) + average(next, l, kind) - out[l]));
+  }
+  template <class V>
+  void reserveBuffers(std::vector<std::vector<V>> &buffers, int count) const {
+    if (int(buffers.size()) < count) buffers.resize(count);
+    for (int k = 0; k < count; ++k) buffers[k].resize(n_);
   }
 
   int n_;
   std::vector<int> to_global_, to_local_, offsets_, neighbours_;
   std::vector<Kind> kind_;
   mutable std::vector<std::vector<Vec3>> next_;
+  mutable std::vector<std::vector<Vec3f>> next_float_;
 };
 
 } // namespace vcg_ext

@@ -222,7 +222,9 @@ TEST(BandShrink, CoarseBandsAsChebyshevSeriesGiveThePairByPairResult) {
   EXPECT_NE(series, pairs); // another evaluation...
   double worst = 0;
   for (size_t v = 0; v < series.size(); ++v) worst = std::max(worst, (series[v] - pairs[v]).norm());
-  EXPECT_LT(worst, 1e-8 * meanEdge(noisy)); // ...of the same result (measured 2.3e-9)
+  // ...of the same result: measured 1.2e-9 mean edge lengths, most of it the single-precision
+  // probe's rounding, which differs between its two evaluations and moves the gains by ~1e-8.
+  EXPECT_LT(worst, 1e-7 * meanEdge(noisy));
   EXPECT_GT((pairs[0] - noisy.points[0]).norm() + (pairs[500] - noisy.points[500]).norm(), 0.0);
   ASSERT_EQ(a.gains.size(), b.gains.size());
   for (size_t k = 0; k < a.gains.size(); ++k) EXPECT_NEAR(a.gains[k], b.gains[k], 1e-7) << k;

@@ -133,3 +133,51 @@ TEST(TaubinChebyshev, SameBitsForAnyThreadCountAndTheSameResultFarFromTheOrigin)
   for (size_t v = 0; v < near.size(); ++v) worst = std::max(worst, (far[v] - offset - near[v]).norm());
   EXPECT_LT(worst, 1e-8); // the coordinates' own rounding at 1e6 is about 1e-10
 }
+
+// The single-precision fields (the band shrinkage's probe) ride along in the same sweeps: the
+// double fields keep their bits, the float ones follow the same steps and series to float
+// rounding, and still vertices keep their float values exactly.
+TEST(TaubinChebyshev, FloatFieldsRideAlongWithoutChangingTheDoubleOnes) {
+  const CylinderCase s = openCylinder();
+  const int n = int(s.mesh.points.size());
+  std::vector<Vec3> other(n);
+  for (int v = 0; v < n; ++v) other[v] = Vec3(std::sin(v), std::cos(3.0 * v), 0.5 * v / n);
+  const SpatialTaubin taubin(s.mesh.points, s.rings, s.fixed, s.roles.boundary_neighbours);
+  const std::vector<double> c = taubinChebyshevCoefficients(32, 0.5, -0.51);
+  const std::vector<Vec3> input = taubin.toLocal(s.mesh.points), input_other = taubin.toLocal(other);
+  std::vector<Vec3f> input_float(n);
+  for (int l = 0; l < n; ++l) input_float[l] = input_other[l].cast<float>();
+
+  // Steps: double alone against double with a float field alongside.
+  std::vector<Vec3> alone = input, with_float = input, other_steps = input_other;
+  std::vector<Vec3f> float_steps = input_float;
+  taubin.smooth({&alone}, 6, 0.5, -0.51);
+  taubin.smooth({&with_float, &other_steps}, {&float_steps}, 6, 0.5, -0.51);
+  // Series: the same.
+  std::vector<Vec3> series_alone, series_with_float, series_other;
+  std::vector<Vec3f> series_float;
+  taubin.applyChebyshev({&input}, {&series_alone}, c);
+  taubin.applyChebyshev({&input, &input_other}, {&series_with_float, &series_other},
+                        {&input_float}, {&series_float}, c);
+  double worst_steps = 0, worst_series = 0;
+  int moved = 0;
+  for (int l = 0; l < n; ++l) {
+    ASSERT_EQ(alone[l], with_float[l]) << l;
+    ASSERT_EQ(series_alone[l], series_with_float[l]) << l;
+    worst_steps = std::max(worst_steps, (float_steps[l].cast<double>() - other_steps[l]).norm());
+    worst_series = std::max(worst_series, (series_float[l].cast<double>() - series_other[l]).norm());
+    moved += float_steps[l] != input_float[l];
+  }
+  // The field's values are up to ~1: float rounding over a few dozen operations.
+  EXPECT_LT(worst_steps, 1e-5);
+  EXPECT_LT(worst_series, 1e-5);
+  EXPECT_GT(worst_series, 0.0); // a float result, not a copy of the double one
+  EXPECT_GT(moved, n / 2);
+  const std::vector<Vec3> global_points = taubin.toGlobal(with_float);
+  for (int v = 0; v < n; ++v)
+    if (s.fixed[v]) {
+      const int l = taubin.local(v);
+      EXPECT_EQ(float_steps[l], input_float[l]) << v;
+      EXPECT_EQ(series_float[l], input_float[l]) << v;
+    }
+}
