@@ -4,6 +4,7 @@
 #pragma once
 
 #include "filter_parameters.h"
+#include "heap_reuse.h"
 #include "memory_check.h"
 
 #include <vcg/complex/algorithms/update/bounding.h>
@@ -348,6 +349,7 @@ FilterOutcome withinMemory(const MeshType &m, const MemoryCost &cost, const char
     return out;
   }
   try {
+    const HeapReuse heap; // large blocks reused within the run (heap_reuse.h)
     return run();
   } catch (const std::bad_alloc &) {
     FilterOutcome out;
