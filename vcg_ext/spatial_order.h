@@ -16,6 +16,7 @@
 #pragma once
 
 #include "mesh_arrays.h"
+#include "rings.h" // min_parallel_vertices
 
 #include <algorithm>
 #include <array>
@@ -23,7 +24,26 @@
 #include <type_traits>
 #include <vector>
 
+#ifdef _OPENMP
+#include <parallel/algorithm>
+#endif
+
 namespace vcg_ext {
+
+namespace detail {
+// Sorts `values` ascending, in parallel where OpenMP is on (libstdc++'s parallel mode: a multiway
+// merge sort). For values that are all distinct or equal only when identical, the result is the
+// same as std::sort's.
+template <class T> void parallelSort(std::vector<T> &values) {
+#ifdef _OPENMP
+  if (values.size() >= size_t(min_parallel_vertices)) {
+    __gnu_parallel::sort(values.begin(), values.end());
+    return;
+  }
+#endif
+  std::sort(values.begin(), values.end());
+}
+} // namespace detail
 
 // The vertices sorted along the Morton curve of a 2^21 lattice over their bounding box; equal codes
 // by coordinates, then index; non-finite positions last.
@@ -42,27 +62,38 @@ inline std::vector<int> mortonOrder(const std::vector<Vec3> &points) {
     x = (x | x << 2) & 0x1249249249249249ull;
     return x;
   };
-  std::vector<std::uint64_t> code(n, ~0ull);
-  for (int v = 0; v < n; ++v)
+  // (code, vertex) pairs sorted in parallel, then the rare runs of equal codes by position: the
+  // order is a strict total order, so it is the same whatever the sort or the thread count.
+  std::vector<std::pair<std::uint64_t, int>> keyed(n);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+  for (int v = 0; v < n; ++v) {
+    std::uint64_t code = ~0ull;
     if (points[v].allFinite()) {
-      code[v] = 0;
+      code = 0;
       for (int k = 0; k < 3; ++k) {
         // In [0, 1] for any finite extent; NaN (an infinite or zero extent) counts as 0.
         const double t = (points[v][k] - lowest[k]) / extent;
         const double c = t >= 0 ? std::min(t, 1.0) * double(0x1fffff) : 0.0;
-        code[v] |= spread(std::uint64_t(c)) << k;
+        code |= spread(std::uint64_t(c)) << k;
       }
     }
+    keyed[v] = {code, v};
+  }
+  detail::parallelSort(keyed);
+  for (int begin = 0, end; begin < n; begin = end) {
+    for (end = begin + 1; end < n && keyed[end].first == keyed[begin].first;) ++end;
+    if (end - begin > 1)
+      std::sort(keyed.begin() + begin, keyed.begin() + end, [&](const auto &x, const auto &y) {
+        const int a = x.second, b = y.second;
+        if (points[a].allFinite() && points[b].allFinite()) {
+          for (int k = 0; k < 3; ++k)
+            if (points[a][k] != points[b][k]) return points[a][k] < points[b][k];
+        }
+        return a < b;
+      });
+  }
   std::vector<int> order(n);
-  for (int v = 0; v < n; ++v) order[v] = v;
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    if (code[a] != code[b]) return code[a] < code[b];
-    if (points[a].allFinite() && points[b].allFinite()) {
-      for (int k = 0; k < 3; ++k)
-        if (points[a][k] != points[b][k]) return points[a][k] < points[b][k];
-    }
-    return a < b;
-  });
+  for (int v = 0; v < n; ++v) order[v] = keyed[v].second;
   return order;
 }
 
@@ -107,7 +138,7 @@ inline std::vector<int> putInSpatialOrder(MeshArrays &mesh) {
     std::rotate(g.begin(), std::min_element(g.begin(), g.end()), g.end());
     f = g;
   }
-  std::sort(mesh.faces.begin(), mesh.faces.end());
+  detail::parallelSort(mesh.faces);
   mesh.spatially_ordered = true;
   return input_of;
 }

@@ -8,6 +8,7 @@
 #include <vcg_ext/paper_smooth.h>
 #include <vcg_ext/spatial_taubin.h>
 
+#include <omp.h>
 #include <set>
 
 using namespace vcg_ext;
@@ -141,4 +142,56 @@ TEST(SpatialOrder, ExtremeAndNonFiniteCoordinatesStillGiveAPermutation) {
       else EXPECT_FALSE(seen_non_finite) << "a finite vertex after a non-finite one";
     }
   }
+}
+
+// The order in parallel (pairs of Morton code and vertex sorted by libstdc++'s parallel sort, then
+// ties by position) is the serial order, for one thread or two: codes shared
+// by many vertices (duplicates, vertices in one lattice cell), non-finite positions last by index.
+TEST(SpatialOrder, ParallelSortGivesTheComparisonSortsOrderForAnyThreadCount) {
+  MeshArrays m = test_meshes::cylinder(1.0, 2.0, 60, 50);
+  test_meshes::addNoise(m, 0.01, 5);
+  const int n0 = int(m.points.size());
+  for (int v = 0; v < n0; v += 7) m.points.push_back(m.points[v]); // exact duplicates
+  for (int v = 0; v < 40; ++v) m.points.push_back(m.points[3] + Vec3(1e-12 * v, 0, 0)); // one cell
+  m.points.push_back(Vec3(NAN, 0, 0));
+  m.points.push_back(Vec3(0, INFINITY, 0));
+  const int n = int(m.points.size());
+  const std::vector<Vec3> &p = m.points;
+  const std::vector<int> got_serial = mortonOrder(p);
+  const int saved = min_parallel_vertices, threads = omp_get_max_threads();
+  min_parallel_vertices = 0;
+  std::vector<std::vector<int>> got;
+  for (int t : {1, 2}) {
+    omp_set_num_threads(t);
+    got.push_back(mortonOrder(p));
+  }
+  omp_set_num_threads(threads);
+  min_parallel_vertices = saved;
+  EXPECT_EQ(got[0], got_serial);
+  EXPECT_EQ(got[1], got_serial);
+  // A permutation with the duplicates next to each other in index order and the two non-finite
+  // positions last, in index order.
+  std::vector<int> sorted = got_serial;
+  std::sort(sorted.begin(), sorted.end());
+  for (int v = 0; v < n; ++v) ASSERT_EQ(sorted[v], v);
+  EXPECT_EQ(got_serial[n - 2], n - 2);
+  EXPECT_EQ(got_serial[n - 1], n - 1);
+  std::vector<int> position(n);
+  for (int i = 0; i < n; ++i) position[got_serial[i]] = i;
+  for (int k = 0, v = 0; v < n0; v += 7, ++k) {
+    const int copy = n0 + k;
+    EXPECT_EQ(position[copy], position[v] + 1) << v; // equal positions: by index, adjacent
+  }
+  // Faces: sorted as std::sort sorts them, whatever the thread count.
+  MeshArrays a = m, b = m;
+  a.points.resize(n0), b.points.resize(n0);
+  min_parallel_vertices = 0;
+  omp_set_num_threads(2);
+  putInSpatialOrder(a);
+  omp_set_num_threads(1);
+  putInSpatialOrder(b);
+  omp_set_num_threads(threads);
+  min_parallel_vertices = saved;
+  EXPECT_EQ(a.faces, b.faces);
+  EXPECT_TRUE(std::is_sorted(a.faces.begin(), a.faces.end()));
 }
