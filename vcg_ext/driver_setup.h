@@ -289,7 +289,11 @@ inline DriverSetup driverSetup(const MeshArrays &mesh, bool selected_only,
   s.rings = computeRings(n, mesh.faces, with_two_rings);
   s.stats = edgeStatistics(mesh.points, s.rings);
   s.roles = vertexRoles(mesh, s.rings, s.stats.mean_edge_length);
-  if (with_face_rings) s.face_rings = computeFaceRings(mesh.faces, s.rings);
+  // Edge neighbours only: the noise estimate and the windowed mode choice read nothing else; the
+  // feature mode adds the ring lists (addFaceRingLists) when it runs on the whole mesh.
+  if (with_face_rings)
+    s.face_rings = computeFaceRings(mesh.faces, s.rings, /*with_edge_neighbours=*/true,
+                                    /*with_lists=*/false);
   s.closed = s.rings.boundary_edges == 0 && s.rings.nonmanifold_edges == 0;
   s.fixed.assign(n, 0);
   for (int v = 0; v < n; ++v) {

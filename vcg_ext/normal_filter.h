@@ -124,30 +124,58 @@ inline void mergeSortedUnique(const int *a, const int *a_end, const int *b, cons
 }
 } // namespace detail
 
+namespace detail {
+// The faces sharing each of f's edges with it (−1 where none; one of them on a non-manifold edge).
+inline std::array<int, 3> faceEdgeNeighbours(int f, const std::vector<Face> &faces,
+                                             const Rings &rings) {
+  std::array<int, 3> out = {-1, -1, -1};
+  for (int k = 0; k < 3; ++k) {
+    const int a = faces[f][k], b = faces[f][(k + 1) % 3];
+    for (const int *g = rings.facesBegin(a); g != rings.facesEnd(a); ++g) {
+      const Face &t = faces[*g];
+      if (*g != f && (t[0] == b || t[1] == b || t[2] == b)) {
+        out[k] = *g;
+        break;
+      }
+    }
+  }
+  return out;
+}
+} // namespace detail
+
 // `with_edge_neighbours` false leaves edge_neighbours empty (only the normal filter, the
-// dihedral spread and the mode choice read them; the face patches do not).
+// dihedral spread and the mode choice read them; the face patches do not); `with_lists` false
+// leaves the ring lists empty (the noise estimate and the windowed mode choice read only the edge
+// neighbours: addFaceRingLists adds the lists when a whole-mesh normal filter needs them).
 inline FaceRings computeFaceRings(const std::vector<Face> &faces, const Rings &rings,
-                                  bool with_edge_neighbours = true) {
+                                  bool with_edge_neighbours = true, bool with_lists = true) {
   FaceRings r;
   const int m = int(faces.size());
-  if (with_edge_neighbours) r.edge_neighbours.assign(m, {-1, -1, -1});
+  if (with_edge_neighbours) r.edge_neighbours.resize(m);
+  if (!with_lists) {
+    if (with_edge_neighbours) {
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
+      for (int f = 0; f < m; ++f) r.edge_neighbours[f] = detail::faceEdgeNeighbours(f, faces, rings);
+    }
+    return r;
+  }
   // In parallel blocks, each list exactly sized (rings.h's buildCsrInBlocks).
   detail::buildCsrInBlocks(m, r.offsets, r.faces, [&](int f, std::vector<int> &out) {
     detail::mergeSortedUnique(rings.facesBegin(faces[f][0]), rings.facesEnd(faces[f][0]),
                               rings.facesBegin(faces[f][1]), rings.facesEnd(faces[f][1]),
                               rings.facesBegin(faces[f][2]), rings.facesEnd(faces[f][2]), out);
-    for (int k = 0; k < 3 && with_edge_neighbours; ++k) {
-      const int a = faces[f][k], b = faces[f][(k + 1) % 3];
-      for (const int *g = rings.facesBegin(a); g != rings.facesEnd(a); ++g) {
-        const Face &t = faces[*g];
-        if (*g != f && (t[0] == b || t[1] == b || t[2] == b)) {
-          r.edge_neighbours[f][k] = *g;
-          break;
-        }
-      }
-    }
+    if (with_edge_neighbours) r.edge_neighbours[f] = detail::faceEdgeNeighbours(f, faces, rings);
   });
   return r;
+}
+
+// Adds the ring lists to face rings built without them (computeFaceRings' `with_lists`).
+inline void addFaceRingLists(FaceRings &face_rings, const std::vector<Face> &faces,
+                             const Rings &rings) {
+  if (!face_rings.offsets.empty() || faces.empty()) return;
+  FaceRings lists = computeFaceRings(faces, rings, /*with_edge_neighbours=*/false);
+  face_rings.offsets.swap(lists.offsets);
+  face_rings.faces.swap(lists.faces);
 }
 
 // A noise estimate that needs no reference and tells noise from curvature: per face, the spread

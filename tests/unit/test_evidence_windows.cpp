@@ -31,7 +31,8 @@ bool sameBits(const Vec3 &a, const Vec3 &b) { return std::memcmp(a.data(), b.dat
 // Checks that every core face of windows around `seeds` has the whole mesh's normals.
 void expectCoreMatchesWholeMesh(const MeshArrays &mesh, const std::vector<int> &seeds,
                                 int core_rings) {
-  const detail::DriverSetup setup = detail::driverSetup(mesh, false);
+  detail::DriverSetup setup = detail::driverSetup(mesh, false);
+  addFaceRingLists(setup.face_rings, mesh.faces, setup.rings); // the whole mesh's first pass
   const FirstPassCounts counts = defaultCounts();
   std::vector<Vec3> filtered, reference;
   firstPassNormals(mesh, setup.rings, setup.face_rings, setup.fixed, setup.roles, counts,
@@ -80,7 +81,8 @@ TEST(EvidenceWindows, WindowsOverTheWholeMeshGiveTheWholeMeshsEvidence) {
   // A noisy box: creases, confirmed ones and flat edges to count.
   MeshArrays box = test_meshes::box(1.0, 0.8, 0.6, 16);
   test_meshes::addNoise(box, 0.004, 3);
-  const detail::DriverSetup setup = detail::driverSetup(box, false);
+  detail::DriverSetup setup = detail::driverSetup(box, false);
+  addFaceRingLists(setup.face_rings, box.faces, setup.rings); // the whole mesh's first pass
   const FirstPassCounts counts = defaultCounts();
   std::vector<Vec3> filtered, reference;
   firstPassNormals(box, setup.rings, setup.face_rings, setup.fixed, setup.roles, counts,
