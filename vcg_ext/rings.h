@@ -14,6 +14,10 @@
 #include <new>
 #include <utility>
 
+#ifdef _OPENMP
+#include <parallel/algorithm>
+#endif
+
 namespace vcg_ext {
 
 struct Rings {
@@ -93,6 +97,19 @@ void buildCsrInBlocks(int n, std::vector<int> &offsets, std::vector<int> &values
   values.resize(offsets[n]);
   for (int b = 0; b < blocks; ++b)
     std::copy(buffer[b].begin(), buffer[b].end(), values.begin() + offsets[b * block]);
+}
+
+// Sorts `values` ascending, in parallel where OpenMP is on (libstdc++'s parallel mode: a multiway
+// merge sort). For values that are all distinct or equal only when identical, the result is the
+// same as std::sort's.
+template <class T> void parallelSort(std::vector<T> &values) {
+#ifdef _OPENMP
+  if (values.size() >= size_t(min_parallel_vertices)) {
+    __gnu_parallel::sort(values.begin(), values.end());
+    return;
+  }
+#endif
+  std::sort(values.begin(), values.end());
 }
 
 } // namespace detail

@@ -94,7 +94,7 @@ struct UniformPointGrid {
       const std::uint64_t cell_id = (std::uint64_t(cz) * ny + cy) * nx + cx;
       keyed[a] = {cell_id * 512 + morton, active[a]};
     }
-    std::sort(keyed.begin(), keyed.end());
+    detail::parallelSort(keyed); // (key, vertex) pairs are distinct: the same order
     cell_start.assign(cell_count + 1, 0);
     sorted.resize(active.size());
     sorted_vertex.resize(active.size());
@@ -181,30 +181,37 @@ inline void gaussianMeansAllSigmas(const UniformPointGrid &grid, const Vec3 &p, 
 
 // Non-linear suppression of one scale's S (paper 2.2 after Lee et al.): divided by its maximum and
 // multiplied by (1 − mean of its other 1-ring local maxima)², then added to `saliency`. A scale with
-// one dominant peak keeps its weight, a scale with many comparable peaks is damped. Serial, in
-// vertex order: a few operations per vertex, less than a parallel region costs on a busy machine.
+// one dominant peak keeps its weight, a scale with many comparable peaks is damped. The peaks are
+// found in parallel and summed in vertex order on one thread (the same bits for any thread count).
 inline void addSuppressedScale(const Rings &rings, const std::vector<int> &active,
                                std::vector<double> &s, double half_spread,
                                std::vector<double> &saliency) {
-  const int n = rings.vertex_count;
+  const int n = rings.vertex_count, m = int(active.size());
   const double maximum = *std::max_element(s.begin(), s.end());
   if (!(maximum > 1e-12 * half_spread)) return; // rounding only: this scale sees nothing
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
   for (int v = 0; v < n; ++v) s[v] /= maximum;
   // Near-ties count as maxima on both sides (so the result does not hinge on rounding); a plateau
   // at zero is not a peak.
   const double tie = 1e-12;
-  double peak_sum = 0;
-  long peak_count = 0;
-  for (int v : active) {
+  std::vector<std::uint8_t> peak(m, 0);
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
+  for (int a = 0; a < m; ++a) {
+    const int v = active[a];
     if (!(s[v] > tie)) continue;
     bool is_peak = true;
     for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v) && is_peak; ++w)
       is_peak = s[v] >= s[*w] - tie;
-    if (is_peak) peak_sum += s[v], ++peak_count;
+    peak[a] = is_peak;
   }
+  double peak_sum = 0;
+  long peak_count = 0;
+  for (int a = 0; a < m; ++a)
+    if (peak[a]) peak_sum += s[active[a]], ++peak_count;
   // The global maximum (1 after normalising) is always one of the peaks: leave it out.
   const double other_peaks_mean = peak_count > 1 ? (peak_sum - 1.0) / double(peak_count - 1) : 0.0;
   const double weight = (1.0 - other_peaks_mean) * (1.0 - other_peaks_mean);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
   for (int v = 0; v < n; ++v) saliency[v] += weight * s[v];
 }
 
@@ -297,13 +304,17 @@ inline void computeSaliencyImpl(const std::vector<Vec3> &points, const Rings &ri
   std::vector<double> scale_saliency(n, 0.0);
   for (int i = 0; i < kSaliencyScales; ++i) {
     const std::vector<double> &fine = means[kScaleFine[i]], &coarse = means[kScaleCoarse[i]];
-    for (int v : active) scale_saliency[v] = std::abs(fine[v] - coarse[v]);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+    for (int a = 0; a < int(active.size()); ++a)
+      scale_saliency[active[a]] = std::abs(fine[active[a]] - coarse[active[a]]);
     addSuppressedScale(rings, active, scale_saliency, half_spread, saliency);
     std::vector<double>().swap(means[kScaleFine[i]]); // not needed again
   }
   const double maximum = *std::max_element(saliency.begin(), saliency.end());
-  if (maximum > 0)
-    for (double &x : saliency) x /= maximum;
+  if (maximum > 0) {
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+    for (int v = 0; v < n; ++v) saliency[v] /= maximum;
+  }
 }
 
 // computeSaliency, all σ exact, with the grid's cell edge as a fraction of the largest cut-off

@@ -109,16 +109,19 @@ struct SparseLattice {
   // Sorts `keys` (unique) into the lattice; returns each input key's position.
   std::vector<int> assign(const std::vector<std::uint64_t> &keys) {
     const int count = int(keys.size());
-    std::vector<int> order(count), position(count);
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return keys[a] < keys[b]; });
+    // (key, index) pairs in one array, sorted in parallel: the keys are distinct, so the order is
+    // the keys' whatever the sort.
+    std::vector<std::pair<std::uint64_t, int>> order(count);
+    for (int p = 0; p < count; ++p) order[p] = {keys[p], p};
+    parallelSort(order);
+    std::vector<int> position(count);
     key.resize(count);
     x.resize(count);
     row_key.clear();
     row_start.clear();
     for (int p = 0; p < count; ++p) {
-      position[order[p]] = p;
-      key[p] = keys[order[p]];
+      position[order[p].second] = p;
+      key[p] = order[p].first;
       x[p] = int(key[p] % nx);
       if (p == 0 || key[p] / nx != row_key.back()) {
         row_key.push_back(key[p] / nx);

@@ -16,7 +16,7 @@
 #pragma once
 
 #include "mesh_arrays.h"
-#include "rings.h" // min_parallel_vertices
+#include "rings.h" // min_parallel_vertices, parallelSort
 
 #include <algorithm>
 #include <array>
@@ -24,26 +24,8 @@
 #include <type_traits>
 #include <vector>
 
-#ifdef _OPENMP
-#include <parallel/algorithm>
-#endif
 
 namespace vcg_ext {
-
-namespace detail {
-// Sorts `values` ascending, in parallel where OpenMP is on (libstdc++'s parallel mode: a multiway
-// merge sort). For values that are all distinct or equal only when identical, the result is the
-// same as std::sort's.
-template <class T> void parallelSort(std::vector<T> &values) {
-#ifdef _OPENMP
-  if (values.size() >= size_t(min_parallel_vertices)) {
-    __gnu_parallel::sort(values.begin(), values.end());
-    return;
-  }
-#endif
-  std::sort(values.begin(), values.end());
-}
-} // namespace detail
 
 // The vertices sorted along the Morton curve of a 2^21 lattice over their bounding box; equal codes
 // by coordinates, then index; non-finite positions last.
