@@ -4,7 +4,7 @@
 // Why: glibc serves every block above its mmap threshold (at most 32 MB) with a fresh mapping and
 // unmaps it when freed. A run on millions of vertices allocates and frees arrays of tens of MB
 // dozens of times (snapshots, step buffers, per-stage tables), and each one costs a page fault per
-// 4 kB on first touch, taken under the kernel's locks by both threads: 9 % of the 2.2M-vertex
+// 4 kB on first touch, taken under the kernel's locks by both threads: about 7 % of the 2.2M-vertex
 // run's processor time (perf), 16.0 s instead of 17.6 s without it (tools/smooth_mesh on the
 // bench/scale.py mesh), for 70-100 MB more peak memory (freed blocks do not always fit the next
 // request). Afterwards glibc's defaults are set again and the free memory is returned (the mmap

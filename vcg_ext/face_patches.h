@@ -40,11 +40,15 @@ struct FacePatch {
 
   // The height basis x^a y^b, index 3a + b, and its x and y derivatives.
   static HeightCoefficients basis(double x, double y) {
-    const double px[3] = {1, x, x * x}, py[3] = {1, y, y * y};
     HeightCoefficients b;
+    basisInto(x, y, b.data());
+    return b;
+  }
+  // The same into 9 plain values (the patch fit's rows, fitFacePatchAt).
+  static void basisInto(double x, double y, double *b) {
+    const double px[3] = {1, x, x * x}, py[3] = {1, y, y * y};
     for (int a = 0; a < 3; ++a)
       for (int k = 0; k < 3; ++k) b[3 * a + k] = px[a] * py[k];
-    return b;
   }
   static void basisGradient(double x, double y, HeightCoefficients &bx, HeightCoefficients &by) {
     const double px[3] = {1, x, x * x}, py[3] = {1, y, y * y};
@@ -179,9 +183,7 @@ bool fitFacePatchAt(int f, const Vec3 &centroid, const std::vector<Vec3> &points
     for (int k = 0; k < 3; ++k) {
       const Vec3 d = (points[faces[*g][k]] - out.origin) / mean_edge;
       x[k] = d.dot(e1), y[k] = d.dot(e2), z[k] = d.dot(n);
-      const double px[3] = {1, x[k], x[k] * x[k]}, py[3] = {1, y[k], y[k] * y[k]};
-      for (int a = 0; a < 3; ++a)
-        for (int c = 0; c < 3; ++c) corner[k][3 * a + c] = px[a] * py[c];
+      FacePatch::basisInto(x[k], y[k], corner[k]);
     }
     double b[9];
     for (int i = 0; i < 9; ++i) b[i] = (corner[0][i] + corner[1][i] + corner[2][i]) / 3.0;

@@ -24,7 +24,6 @@
 #include <type_traits>
 #include <vector>
 
-
 namespace vcg_ext {
 
 // The vertices sorted along the Morton curve of a 2^21 lattice over their bounding box; equal codes

@@ -147,7 +147,7 @@ public:
       for (int k = 0; k < count; ++k) next_[k].swap(*outputs[k]);
       for (int k = 0; k < float_count; ++k) next_float_[k].swap(*float_outputs[k]);
     }
-    // scratch = b_1, outputs = b_2: the result c_0 x + P b_1 − b_2, in place of b_2.
+    // next_ = b_1, outputs = b_2: the result c_0 x + P b_1 − b_2, in place of b_2.
 #pragma omp parallel for schedule(static) if (n_ >= min_parallel_vertices)
     for (int l = 0; l < n_; ++l) {
       const Kind kind = kindOf(l, boundary_still);
