@@ -72,6 +72,17 @@ TEST(Saliency, ConstantMapGivesZeroAndAffineMapsGiveTheSameSaliency) {
   EXPECT_EQ(*std::max_element(base.begin(), base.end()), 1.0);
 }
 
+TEST(Saliency, WeightExpMatchesTheLibraryExpOnTheWeightsRange) {
+  // The only range the weights take inside their cut-off: −d²/2σ² in (−2, 0].
+  double worst = 0;
+  for (int i = 0; i <= 20000; ++i) {
+    const double x = -2.0 * i / 20000;
+    worst = std::max(worst, std::abs(detail::gaussianWeightExp(x) / std::exp(x) - 1));
+  }
+  EXPECT_LT(worst, 2e-14);
+  EXPECT_EQ(detail::gaussianWeightExp(0.0), 1.0);
+}
+
 TEST(Saliency, GridSweepMatchesBruteForceGaussianMeans) {
   const auto s = noisySphere();
   const double epsilon = 0.015;
