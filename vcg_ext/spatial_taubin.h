@@ -87,6 +87,7 @@ public:
               const std::vector<std::vector<Vec3f> *> &float_fields, int pairs, double lambda,
               double mu, bool boundary_still = false) const {
     const int count = int(fields.size()), float_count = int(float_fields.size());
+    const bool paired = count == 1 && float_count == 1; // the band shrinkage's case
     // The step's output buffers are kept between calls (a band shrinkage makes dozens of calls).
     reserveBuffers(next_, count);
     reserveBuffers(next_float_, float_count);
@@ -95,6 +96,14 @@ public:
 #pragma omp parallel for schedule(static) if (n_ >= min_parallel_vertices)
       for (int l = 0; l < n_; ++l) {
         const Kind kind = kindOf(l, boundary_still);
+        if (paired) {
+          Vec3 a;
+          Vec3f b;
+          averagePair(*fields[0], *float_fields[0], l, kind, a, b);
+          next_[0][l] = stepWith(*fields[0], l, kind, factor, a);
+          next_float_[0][l] = stepWith(*float_fields[0], l, kind, float(factor), b);
+          continue;
+        }
         for (int k = 0; k < count; ++k) next_[k][l] = stepAt(*fields[k], l, kind, factor);
         for (int k = 0; k < float_count; ++k)
           next_float_[k][l] = stepAt(*float_fields[k], l, kind, float(factor));
@@ -125,6 +134,7 @@ public:
                       const std::vector<std::vector<Vec3f> *> &float_outputs,
                       const std::vector<double> &c, bool boundary_still = false) const {
     const int count = int(inputs.size()), float_count = int(float_inputs.size());
+    const bool paired = count == 1 && float_count == 1; // the band shrinkage's case
     const int degree = int(c.size()) - 1;
     reserveBuffers(next_, count);
     reserveBuffers(next_float_, float_count);
@@ -138,6 +148,14 @@ public:
 #pragma omp parallel for schedule(static) if (n_ >= min_parallel_vertices)
       for (int l = 0; l < n_; ++l) {
         const Kind kind = kindOf(l, boundary_still);
+        if (paired) {
+          Vec3 a;
+          Vec3f b;
+          averagePair(next_[0], next_float_[0], l, kind, a, b);
+          clenshawStepWith(cj, *inputs[0], centre[0], a, *outputs[0], l);
+          clenshawStepWith(float(cj), *float_inputs[0], float_centre[0], b, *float_outputs[0], l);
+          continue;
+        }
         for (int k = 0; k < count; ++k)
           clenshawStep(cj, *inputs[k], centre[k], next_[k], *outputs[k], l, kind);
         for (int k = 0; k < float_count; ++k)
@@ -151,6 +169,15 @@ public:
 #pragma omp parallel for schedule(static) if (n_ >= min_parallel_vertices)
     for (int l = 0; l < n_; ++l) {
       const Kind kind = kindOf(l, boundary_still);
+      if (paired) {
+        Vec3 a;
+        Vec3f b;
+        averagePair(next_[0], next_float_[0], l, kind, a, b);
+        clenshawEndWith(c[0], *inputs[0], centre[0], a, *outputs[0], l, kind);
+        clenshawEndWith(float(c[0]), *float_inputs[0], float_centre[0], b, *float_outputs[0], l,
+                        kind);
+        continue;
+      }
       for (int k = 0; k < count; ++k)
         clenshawEnd(c[0], *inputs[k], centre[k], next_[k], *outputs[k], l, kind);
       for (int k = 0; k < float_count; ++k)
@@ -176,10 +203,33 @@ private:
     for (const int *w = begin; w != end; ++w) sum += b[*w];
     return sum / S(end - begin);
   }
+  // average() of a double and a float field in one pass over l's neighbours: the neighbour list
+  // is read once for both (it is a third of a step's memory traffic), each sum as average() takes it.
+  void averagePair(const std::vector<Vec3> &a, const std::vector<Vec3f> &b, int l, Kind kind,
+                   Vec3 &mean_a, Vec3f &mean_b) const {
+    const int *begin = neighbours_.data() + offsets_[l], *end = neighbours_.data() + offsets_[l + 1];
+    if (kind == Kind::Still) {
+      mean_a = a[l], mean_b = b[l];
+    } else if (kind == Kind::Curve) {
+      mean_a = 0.5 * (a[begin[0]] + a[begin[1]]);
+      mean_b = 0.5f * (b[begin[0]] + b[begin[1]]);
+    } else {
+      Vec3 sum_a = Vec3::Zero();
+      Vec3f sum_b = Vec3f::Zero();
+      for (const int *w = begin; w != end; ++w) sum_a += a[*w], sum_b += b[*w];
+      mean_a = sum_a / double(end - begin);
+      mean_b = sum_b / float(end - begin);
+    }
+  }
   // One smooth() step at l: the arithmetic of taubinSmooth, operation for operation.
   template <class V, class S>
   V stepAt(const std::vector<V> &p, int l, Kind kind, S factor) const {
-    return kind == Kind::Still ? p[l] : V(p[l] + factor * (average(p, l, kind) - p[l]));
+    return kind == Kind::Still ? p[l] : stepWith(p, l, kind, factor, average(p, l, kind));
+  }
+  // The same with the average given.
+  template <class V, class S>
+  V stepWith(const std::vector<V> &p, int l, Kind kind, S factor, const V &mean) const {
+    return kind == Kind::Still ? p[l] : V(p[l] + factor * (mean - p[l]));
   }
   // Clenshaw's start: b_{j+1} = b_{j+2} = 0; returns the field's bounding-box centre.
   template <class V>
@@ -196,14 +246,25 @@ private:
   template <class V, class S>
   void clenshawStep(S cj, const std::vector<V> &input, const V &centre, const std::vector<V> &next,
                     std::vector<V> &b, int l, Kind kind) const {
-    b[l] = cj * (input[l] - centre) + S(2) * average(next, l, kind) - b[l];
+    clenshawStepWith(cj, input, centre, average(next, l, kind), b, l);
+  }
+  // The same with (P b_{j+1})[l] given.
+  template <class V, class S>
+  void clenshawStepWith(S cj, const std::vector<V> &input, const V &centre, const V &mean,
+                        std::vector<V> &b, int l) const {
+    b[l] = cj * (input[l] - centre) + S(2) * mean - b[l];
   }
   // The result c_0 x + P b_1 − b_2 (b_1 in `next`, b_2 in `out`), in place of b_2.
   template <class V, class S>
   void clenshawEnd(S c0, const std::vector<V> &input, const V &centre, const std::vector<V> &next,
                    std::vector<V> &out, int l, Kind kind) const {
+    clenshawEndWith(c0, input, centre, average(next, l, kind), out, l, kind);
+  }
+  template <class V, class S>
+  void clenshawEndWith(S c0, const std::vector<V> &input, const V &centre, const V &mean,
+                       std::vector<V> &out, int l, Kind kind) const {
     const V &x = input[l];
-    out[l] = kind == Kind::Still ? x : V(centre + (c0 * (x - centre) + average(next, l, kind) - out[l]));
+    out[l] = kind == Kind::Still ? x : V(centre + (c0 * (x - centre) + mean - out[l]));
   }
   template <class V>
   void reserveBuffers(std::vector<std::vector<V>> &buffers, int count) const {

@@ -181,3 +181,38 @@ TEST(TaubinChebyshev, FloatFieldsRideAlongWithoutChangingTheDoubleOnes) {
       EXPECT_EQ(series_float[l], input_float[l]) << v;
     }
 }
+
+TEST(TaubinChebyshev, OneDoubleAndOneFloatFieldTogetherGiveTheBitsOfEachAlone) {
+  // The band shrinkage's case (one double and one float field) reads the neighbours once for both:
+  // each field's arithmetic must stay what it is alone, for steps, series and boundary still.
+  const CylinderCase s = openCylinder();
+  const int n = int(s.mesh.points.size());
+  const SpatialTaubin taubin(s.mesh.points, s.rings, s.fixed, s.roles.boundary_neighbours);
+  const std::vector<double> c = taubinChebyshevCoefficients(32, 0.5, -0.51);
+  const std::vector<Vec3> input = taubin.toLocal(s.mesh.points);
+  std::vector<Vec3f> input_float(n);
+  for (int l = 0; l < n; ++l)
+    input_float[l] = Vec3f(float(std::sin(l)), float(std::cos(3.0 * l)), float(0.5 * l / n));
+  for (bool still : {false, true}) {
+    std::vector<Vec3> alone = input, together = input;
+    std::vector<Vec3f> float_alone = input_float, float_together = input_float;
+    taubin.smooth({&alone}, 5, 0.5, -0.51, still);
+    taubin.smooth({}, {&float_alone}, 5, 0.5, -0.51, still);
+    taubin.smooth({&together}, {&float_together}, 5, 0.5, -0.51, still);
+    std::vector<Vec3> series_alone, series_together;
+    std::vector<Vec3f> series_float_alone, series_float_together;
+    taubin.applyChebyshev({&input}, {&series_alone}, c, still);
+    taubin.applyChebyshev({}, {}, {&input_float}, {&series_float_alone}, c, still);
+    taubin.applyChebyshev({&input}, {&series_together}, {&input_float}, {&series_float_together}, c,
+                          still);
+    int moved = 0;
+    for (int l = 0; l < n; ++l) {
+      ASSERT_EQ(alone[l], together[l]) << l;
+      ASSERT_EQ(float_alone[l], float_together[l]) << l;
+      ASSERT_EQ(series_alone[l], series_together[l]) << l;
+      ASSERT_EQ(series_float_alone[l], series_float_together[l]) << l;
+      moved += together[l] != input[l];
+    }
+    EXPECT_GT(moved, n / 2);
+  }
+}
