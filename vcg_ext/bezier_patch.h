@@ -16,6 +16,7 @@
 #pragma once
 
 #include "mesh_arrays.h"
+#include "small_ldlt.h"
 
 #include <algorithm>
 #include <Eigen/Core>
@@ -194,39 +195,6 @@ struct FitThresholds {
   static constexpr double ldlt_pivot_ratio = 1e-10; // below: do not trust LDLᵀ, use the eigen solve
   static constexpr double pseudo_inverse = 1e-11;   // eigenvalues below this × the largest are dropped
 };
-
-namespace detail {
-
-// In-place LDLᵀ of a symmetric positive definite 9×9 matrix (lower triangle read, L below the
-// diagonal, D on it), without pivoting: the normal matrix is positive semi-definite, so a pivot that
-// is not positive, or tiny against the largest, means rank deficiency and the caller falls back to
-// the rank-revealing solve. False in that case.
-inline bool ldlt9(double M[9][9], double pivot_ratio) {
-  double largest = 0;
-  for (int k = 0; k < 9; ++k) largest = std::max(largest, M[k][k]);
-  if (!(largest > 0) || !std::isfinite(largest)) return false;
-  double smallest = INFINITY, biggest = 0;
-  for (int k = 0; k < 9; ++k) {
-    double ld[9]; // L[k][j]·D[j]
-    double d = M[k][k];
-    for (int j = 0; j < k; ++j) {
-      ld[j] = M[k][j] * M[j][j];
-      d -= M[k][j] * ld[j];
-    }
-    // Pivots of a semi-definite matrix are ≥ 0 in exact arithmetic; here rounding only.
-    if (!(d > 1e-14 * largest) || !std::isfinite(d)) return false;
-    M[k][k] = d;
-    smallest = std::min(smallest, d), biggest = std::max(biggest, d);
-    for (int i = k + 1; i < 9; ++i) {
-      double x = M[i][k];
-      for (int j = 0; j < k; ++j) x -= M[i][j] * ld[j];
-      M[i][k] = x / d;
-    }
-  }
-  return smallest > pivot_ratio * biggest;
-}
-
-} // namespace detail
 
 // Weighted least-squares fit of the patch:
 //   minimise α² Σ_k w_k |A_k x − q_k|² + (1−α)² |S x|²   (w = nullptr: all w_k = 1),

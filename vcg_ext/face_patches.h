@@ -14,6 +14,7 @@
 #pragma once
 
 #include "normal_filter.h"
+#include "small_ldlt.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -219,10 +220,20 @@ bool fitFacePatchAt(int f, const Vec3 &centroid, const std::vector<Vec3> &points
     smoothness += (1 - alpha) * (1 - alpha) / (alpha * alpha);
   }
   M += smoothness * total * detail::thinPlateMatrix();
-  Eigen::LDLT<Eigen::Matrix<double, 9, 9>, Eigen::Lower> ldlt(M);
-  const auto D = ldlt.vectorD();
-  if (ldlt.info() != Eigen::Success || !(D.minCoeff() > 1e-12 * D.maxCoeff())) return false;
-  const HeightCoefficients c = ldlt.solve(rhs);
+  // Unpivoted LDLᵀ (small_ldlt.h); where its pivots are not clearly positive, Eigen's pivoted
+  // LDLT decides, with the test the fit has always used (its pivots above 1e-12 of the largest).
+  double L[9][9];
+  for (int j = 0; j < 9; ++j)
+    for (int i = j; i < 9; ++i) L[i][j] = M(i, j);
+  HeightCoefficients c;
+  if (detail::ldlt9(L, 1e-10)) {
+    detail::ldlt9Solve(L, rhs.data(), c.data());
+  } else {
+    Eigen::LDLT<Eigen::Matrix<double, 9, 9>, Eigen::Lower> ldlt(M);
+    const auto D = ldlt.vectorD();
+    if (ldlt.info() != Eigen::Success || !(D.minCoeff() > 1e-12 * D.maxCoeff())) return false;
+    c = ldlt.solve(rhs);
+  }
   if (!c.allFinite()) return false;
   out.c = c;
   out.curved = true;
