@@ -269,26 +269,53 @@ inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
                                       const std::vector<Vec3> &face_normals,
                                       const FaceRings &face_rings) {
   // Per face in parallel (NaN: a face without three usable neighbours), then gathered in face
-  // order, so the median does not depend on the thread count.
+  // order, so the median does not depend on the thread count. Each edge's angle is computed once,
+  // by the lower-numbered of its two faces, when the other face runs the edge the other way
+  // (consistently oriented neighbours): seen from either face the angle's arguments are the same
+  // numbers (the cross product and the edge change sign together), so the higher-numbered face
+  // reads the same bits it would compute, and half the atan2 calls are saved.
   const int face_count = int(faces.size());
+  auto usable = [&](int f) { return face_normals[f].squaredNorm() > 0.5; };
+  // Positive where the surface turns away from f's normal across the edge (convex).
+  auto angle_at = [&](int f, int k, int g) {
+    const Vec3 edge = (points[faces[f][(k + 1) % 3]] - points[faces[f][k]]).normalized();
+    const Vec3 &a = face_normals[f], &b = face_normals[g];
+    return std::atan2(a.cross(b).dot(edge), a.dot(b)) * 180.0 / M_PI;
+  };
+  // The corner of g whose edge is f's edge k reversed, with f as g's neighbour there (−1: none).
+  auto reversed_in = [&](int f, int k, int g) {
+    const int a = faces[f][k], b = faces[f][(k + 1) % 3];
+    for (int j = 0; j < 3; ++j)
+      if (faces[g][j] == b && faces[g][(j + 1) % 3] == a && face_rings.edge_neighbours[g][j] == f)
+        return j;
+    return -1;
+  };
+  std::vector<std::array<double, 3>> angle(face_count);
+#pragma omp parallel for schedule(static) if (face_count >= min_parallel_vertices)
+  for (int f = 0; f < face_count; ++f) {
+    if (!usable(f)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int g = face_rings.edge_neighbours[f][k];
+      if (g >= 0 && usable(g) && (g > f || reversed_in(f, k, g) < 0)) angle[f][k] = angle_at(f, k, g);
+    }
+  }
   std::vector<double> spreads(face_count);
 #pragma omp parallel for schedule(static) if (face_count >= min_parallel_vertices)
   for (int f = 0; f < face_count; ++f) {
     double lo = INFINITY, hi = -INFINITY;
-    bool complete = face_normals[f].squaredNorm() > 0.5;
+    bool complete = usable(f);
     for (int k = 0; k < 3 && complete; ++k) {
       const int g = face_rings.edge_neighbours[f][k];
-      complete = g >= 0 && face_normals[g].squaredNorm() > 0.5;
+      complete = g >= 0 && usable(g);
       if (!complete) break;
-      // Positive where the surface turns away from f's normal across the edge (convex).
-      const Vec3 edge = (points[faces[f][(k + 1) % 3]] - points[faces[f][k]]).normalized();
-      const Vec3 &a = face_normals[f], &b = face_normals[g];
-      const double angle = std::atan2(a.cross(b).dot(edge), a.dot(b)) * 180.0 / M_PI;
-      lo = std::min(lo, angle);
-      hi = std::max(hi, angle);
+      const int j = g < f ? reversed_in(f, k, g) : -1;
+      const double a = j >= 0 ? angle[g][j] : angle[f][k];
+      lo = std::min(lo, a);
+      hi = std::max(hi, a);
     }
     spreads[f] = complete ? hi - lo : NAN;
   }
+  std::vector<std::array<double, 3>>().swap(angle);
   detail::eraseNaN(spreads);
   if (spreads.empty()) return 0.0;
   return detail::kthSmallest(spreads, spreads.size() / 2);

@@ -197,3 +197,45 @@ TEST(EraseNaN, KeepsTheOtherValuesInOrderOnLargeArrays) {
   detail::eraseNaN(values);
   EXPECT_EQ(values, expected);
 }
+
+TEST(NormalFilter, DihedralSpreadSharesEachEdgesAngleWithTheSameBits) {
+  // The angle of each edge is computed once for its two faces: the median must have the bits of
+  // every face computing its own three angles, on a noisy sphere with flipped faces (inconsistent
+  // neighbours compute their own), open boundaries and a non-manifold fin, for any thread count.
+  MeshArrays m = test_meshes::icosphere(1, 4);
+  test_meshes::addNoise(m, 0.03, 9);
+  for (int f = 0; f < int(m.faces.size()); f += 37) std::swap(m.faces[f][1], m.faces[f][2]);
+  m.faces.erase(m.faces.begin() + 100, m.faces.begin() + 130);
+  m.points.push_back(Vec3(2, 0, 0));
+  m.faces.push_back({m.faces[5][0], m.faces[5][1], int(m.points.size()) - 1}); // a third face on an edge
+  const Rings rings = computeRings(int(m.points.size()), m.faces);
+  const FaceRings face_rings = computeFaceRings(m.faces, rings);
+  FaceGeometry g;
+  computeFaceGeometry(m.points, m.faces, g);
+  std::vector<double> spreads;
+  for (int f = 0; f < int(m.faces.size()); ++f) {
+    double lo = INFINITY, hi = -INFINITY;
+    bool complete = g.normal[f].squaredNorm() > 0.5;
+    for (int k = 0; k < 3 && complete; ++k) {
+      const int h = face_rings.edge_neighbours[f][k];
+      complete = h >= 0 && g.normal[h].squaredNorm() > 0.5;
+      if (!complete) break;
+      const Vec3 edge = (m.points[m.faces[f][(k + 1) % 3]] - m.points[m.faces[f][k]]).normalized();
+      const Vec3 &a = g.normal[f], &b = g.normal[h];
+      const double angle = std::atan2(a.cross(b).dot(edge), a.dot(b)) * 180.0 / M_PI;
+      lo = std::min(lo, angle), hi = std::max(hi, angle);
+    }
+    if (complete) spreads.push_back(hi - lo);
+  }
+  std::nth_element(spreads.begin(), spreads.begin() + spreads.size() / 2, spreads.end());
+  const double expected = spreads[spreads.size() / 2];
+  EXPECT_GT(expected, 5.0);
+  const int saved = min_parallel_vertices, threads = omp_get_max_threads();
+  min_parallel_vertices = 0;
+  for (int t : {1, 2, 3}) {
+    omp_set_num_threads(t);
+    EXPECT_EQ(medianDihedralSpreadDeg(m.points, m.faces, g.normal, face_rings), expected) << t;
+  }
+  omp_set_num_threads(threads);
+  min_parallel_vertices = saved;
+}
