@@ -161,7 +161,7 @@ inline void gaussianMeansSmallestSigmas(const UniformPointGrid &grid, const Vec3
   double weight[kSaliencySigmaCount][kChunk];
   // Adds the buffered points to every σ's sums, from the largest σ down: a σ whose double is also
   // summed takes that weight to the fourth power (exp(−t/(2k)²)⁴ = exp(−t/k²)) instead of an exp.
-  auto flush = [&](int k) {
+  auto flush = [&](int buffered) {
     for (int s = count - 1; s >= 0; --s) {
       const double cut = cutoff2[s], a = exponent[s];
       const int twice = kSaliencyDoubleSigma[s];
@@ -169,18 +169,18 @@ inline void gaussianMeansSmallestSigmas(const UniformPointGrid &grid, const Vec3
       if (twice >= 0 && twice < count) {
         const double *w2 = weight[twice];
 #pragma omp simd
-        for (int i = 0; i < k; ++i) {
+        for (int i = 0; i < buffered; ++i) {
           const double square = w2[i] * w2[i];
           w[i] = double(d2_in[i] < cut) * (square * square); // (no branch: vectorises)
         }
       } else {
 #pragma omp simd
-        for (int i = 0; i < k; ++i)
+        for (int i = 0; i < buffered; ++i)
           w[i] = double(d2_in[i] < cut) * gaussianWeightExp(a * d2_in[i]);
       }
       double num = 0, den = 0;
 #pragma omp simd reduction(+ : num, den)
-      for (int i = 0; i < k; ++i) {
+      for (int i = 0; i < buffered; ++i) {
         num += w[i] * value_in[i];
         den += w[i];
       }
