@@ -272,26 +272,10 @@ inline FitStatus fitBezierPatch(const double *u, const double *v, const Vec3 *po
   double L[9][9];
   std::copy(&M[0][0], &M[0][0] + 81, &L[0][0]);
   if (detail::ldlt9(L, FitThresholds::ldlt_pivot_ratio)) {
-    // L y = rhs, D z = y, Lᵀ x = z, the three coordinates together.
-    double y[9][3];
-    for (int i = 0; i < 9; ++i) {
-      double x0 = rhs[i][0], x1 = rhs[i][1], x2 = rhs[i][2];
-      for (int j = 0; j < i; ++j) {
-        x0 -= L[i][j] * y[j][0], x1 -= L[i][j] * y[j][1], x2 -= L[i][j] * y[j][2];
-      }
-      y[i][0] = x0, y[i][1] = x1, y[i][2] = x2;
-    }
-    for (int i = 0; i < 9; ++i) {
-      const double inv = 1.0 / L[i][i];
-      y[i][0] *= inv, y[i][1] *= inv, y[i][2] *= inv;
-    }
-    for (int i = 8; i >= 0; --i) {
-      double x0 = y[i][0], x1 = y[i][1], x2 = y[i][2];
-      for (int j = i + 1; j < 9; ++j) {
-        x0 -= L[j][i] * X(j, 0), x1 -= L[j][i] * X(j, 1), x2 -= L[j][i] * X(j, 2);
-      }
-      X(i, 0) = x0, X(i, 1) = x1, X(i, 2) = x2;
-    }
+    double solution[9][3]; // the three coordinates together
+    detail::ldlt9Solve<3>(L, &rhs[0][0], &solution[0][0]);
+    for (int i = 0; i < 9; ++i)
+      for (int r = 0; r < 3; ++r) X(i, r) = solution[i][r];
   } else {
     // Rank-revealing fallback: pseudo-inverse from the symmetric eigen-decomposition.
     Mat9 A;

@@ -231,7 +231,7 @@ bool fitFacePatchAt(int f, const Vec3 &centroid, const std::vector<Vec3> &points
     for (int i = j; i < 9; ++i) L[i][j] = M(i, j);
   HeightCoefficients c;
   if (detail::ldlt9(L, 1e-10)) {
-    detail::ldlt9Solve(L, rhs.data(), c.data());
+    detail::ldlt9Solve<1>(L, rhs.data(), c.data());
   } else {
     Eigen::LDLT<Eigen::Matrix<double, 9, 9>, Eigen::Lower> ldlt(M);
     const auto D = ldlt.vectorD();

@@ -290,13 +290,18 @@ inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
         return j;
     return -1;
   };
+  // angle[f][k]: f's own angle at edge k, or none where `shared[f][k]` (≥ 0) names the corner of
+  // its lower-numbered neighbour whose angle it reads.
   std::vector<std::array<double, 3>> angle(face_count);
+  std::vector<std::array<std::int8_t, 3>> shared(face_count, {-1, -1, -1});
 #pragma omp parallel for schedule(static) if (face_count >= min_parallel_vertices)
   for (int f = 0; f < face_count; ++f) {
     if (!usable(f)) continue;
     for (int k = 0; k < 3; ++k) {
       const int g = face_rings.edge_neighbours[f][k];
-      if (g >= 0 && usable(g) && (g > f || reversed_in(f, k, g) < 0)) angle[f][k] = angle_at(f, k, g);
+      if (g < 0 || !usable(g)) continue;
+      shared[f][k] = std::int8_t(g < f ? reversed_in(f, k, g) : -1);
+      if (shared[f][k] < 0) angle[f][k] = angle_at(f, k, g);
     }
   }
   std::vector<double> spreads(face_count);
@@ -308,7 +313,7 @@ inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
       const int g = face_rings.edge_neighbours[f][k];
       complete = g >= 0 && usable(g);
       if (!complete) break;
-      const int j = g < f ? reversed_in(f, k, g) : -1;
+      const int j = shared[f][k];
       const double a = j >= 0 ? angle[g][j] : angle[f][k];
       lo = std::min(lo, a);
       hi = std::max(hi, a);
@@ -316,6 +321,7 @@ inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
     spreads[f] = complete ? hi - lo : NAN;
   }
   std::vector<std::array<double, 3>>().swap(angle);
+  std::vector<std::array<std::int8_t, 3>>().swap(shared);
   detail::eraseNaN(spreads);
   if (spreads.empty()) return 0.0;
   return detail::kthSmallest(spreads, spreads.size() / 2);

@@ -44,19 +44,28 @@ inline bool ldlt9(double M[9][9], double pivot_ratio) {
   return smallest > pivot_ratio * biggest;
 }
 
-// x = M⁻¹ b from ldlt9's factors: L y = b, D z = y, Lᵀ x = z.
-inline void ldlt9Solve(const double L[9][9], const double b[9], double x[9]) {
-  double y[9];
+// X = M⁻¹ B from ldlt9's factors for R right-hand sides at once (row-major 9×R arrays: B[i·R + r]):
+// L Y = B, D Z = Y (by the reciprocal of each pivot), Lᵀ X = Z.
+template <int R>
+inline void ldlt9Solve(const double L[9][9], const double *B, double *X) {
+  double y[9][R];
   for (int i = 0; i < 9; ++i) {
-    double v = b[i];
-    for (int j = 0; j < i; ++j) v -= L[i][j] * y[j];
-    y[i] = v;
+    double v[R];
+    for (int r = 0; r < R; ++r) v[r] = B[i * R + r];
+    for (int j = 0; j < i; ++j)
+      for (int r = 0; r < R; ++r) v[r] -= L[i][j] * y[j][r];
+    for (int r = 0; r < R; ++r) y[i][r] = v[r];
   }
-  for (int i = 0; i < 9; ++i) y[i] /= L[i][i];
+  for (int i = 0; i < 9; ++i) {
+    const double inverse = 1.0 / L[i][i];
+    for (int r = 0; r < R; ++r) y[i][r] *= inverse;
+  }
   for (int i = 8; i >= 0; --i) {
-    double v = y[i];
-    for (int j = i + 1; j < 9; ++j) v -= L[j][i] * x[j];
-    x[i] = v;
+    double v[R];
+    for (int r = 0; r < R; ++r) v[r] = y[i][r];
+    for (int j = i + 1; j < 9; ++j)
+      for (int r = 0; r < R; ++r) v[r] -= L[j][i] * X[j * R + r];
+    for (int r = 0; r < R; ++r) X[i * R + r] = v[r];
   }
 }
 

@@ -27,10 +27,21 @@ TEST(SmallLdlt, SolvesAPositiveDefiniteSystemAsEigensPivotedLdltDoes) {
     lowerOf(M, L);
     ASSERT_TRUE(detail::ldlt9(L, 1e-10)) << trial;
     Vec9 x;
-    detail::ldlt9Solve(L, b.data(), x.data());
+    detail::ldlt9Solve<1>(L, b.data(), x.data());
     const Vec9 reference = M.ldlt().solve(b);
     EXPECT_LT((x - reference).norm(), 1e-10 * reference.norm()) << trial;
     EXPECT_LT((M * x - b).norm(), 1e-10 * b.norm()) << trial;
+    // Three right-hand sides at once (the Bezier fit's coordinates): each column as alone.
+    const Eigen::Matrix<double, 9, 3, Eigen::RowMajor> B = Eigen::Matrix<double, 9, 3>::Random();
+    Eigen::Matrix<double, 9, 3, Eigen::RowMajor> X3;
+    detail::ldlt9Solve<3>(L, B.data(), X3.data());
+    for (int r = 0; r < 3; ++r) {
+      const Vec9 column = B.col(r);
+      Vec9 alone;
+      detail::ldlt9Solve<1>(L, column.data(), alone.data());
+      EXPECT_EQ(Vec9(X3.col(r)), alone) << trial << " " << r;
+      EXPECT_LT((M * alone - column).norm(), 1e-10 * column.norm()) << trial;
+    }
     // D on the diagonal: the product of the pivots is the determinant.
     double det = 1;
     for (int k = 0; k < 9; ++k) det *= L[k][k];
