@@ -28,6 +28,9 @@
 #include <cmath>
 #include <cstdint>
 #include <vector>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace vcg_ext {
 namespace detail {
@@ -106,13 +109,14 @@ struct SparseLattice {
   int size() const { return int(key.size()); }
 
   // Sorts `keys` (unique) into the lattice; returns each input key's position.
-  std::vector<int> assign(const std::vector<std::uint64_t> &keys) {
+  std::vector<int> assign(const std::vector<std::uint64_t> &keys, bool parallel) {
     const int count = int(keys.size());
     // (key, index) pairs in one array, sorted in parallel: the keys are distinct, so the order is
     // the keys' whatever the sort.
     std::vector<std::pair<std::uint64_t, int>> order(count);
     for (int p = 0; p < count; ++p) order[p] = {keys[p], p};
-    parallelSort(order);
+    if (parallel) parallelSort(order);
+    else std::sort(order.begin(), order.end());
     std::vector<int> position(count);
     key.resize(count);
     x.resize(count);
@@ -143,22 +147,74 @@ struct LatticeOptions {
   double variance_correction = 1.0;
 };
 
+// A lattice's rows as dense runs, for the convolution's inner loop: each row's nodes split where
+// two neighbours are more than 2R apart (no target is within R of both), each run stored with zeros
+// between its nodes and 2R zeros at either end, so that every target within R of a run reads the
+// run's window x − ρ … x + ρ (ρ ≤ R) at fixed offsets. The gather's trip counts then depend on the
+// kernel's shape only, not on which nodes the data holds: the sparse rows' loops (a few nodes per
+// row, their ends found by comparisons) mispredicted a branch per row and target.
+struct DenseRuns {
+  struct Run {
+    int x_first, x_last; // the run's first and last node
+    size_t start;        // entry of x_first − 2R in `values`
+  };
+  std::vector<int> row_run; // runs of row r: [row_run[r], row_run[r + 1])
+  std::vector<Run> runs;
+  std::vector<double> values; // (sum, weight) per entry
+};
+
+inline DenseRuns denseRuns(const SparseLattice &lattice, const std::vector<double> &sum_weight,
+                           int R) {
+  DenseRuns d;
+  const int rows = int(lattice.row_key.size());
+  d.row_run.assign(rows + 1, 0);
+  size_t entries = 0;
+  for (int r = 0; r < rows; ++r) {
+    d.row_run[r] = int(d.runs.size());
+    for (int q = lattice.row_start[r]; q < lattice.row_start[r + 1]; ++q) {
+      if (q == lattice.row_start[r] || lattice.x[q] - lattice.x[q - 1] > 2 * R) {
+        if (q != lattice.row_start[r]) entries += size_t(d.runs.back().x_last - d.runs.back().x_first) + 4 * R + 1;
+        d.runs.push_back({lattice.x[q], lattice.x[q], entries});
+      }
+      d.runs.back().x_last = lattice.x[q];
+    }
+    if (lattice.row_start[r + 1] > lattice.row_start[r])
+      entries += size_t(d.runs.back().x_last - d.runs.back().x_first) + 4 * R + 1;
+  }
+  d.row_run[rows] = int(d.runs.size());
+  d.values.assign(2 * entries, 0.0);
+  for (int r = 0; r < rows; ++r) {
+    int run = d.row_run[r];
+    for (int q = lattice.row_start[r]; q < lattice.row_start[r + 1]; ++q) {
+      while (lattice.x[q] > d.runs[run].x_last) ++run;
+      const size_t e = d.runs[run].start + size_t(lattice.x[q] - d.runs[run].x_first + 2 * R);
+      d.values[2 * e] = sum_weight[2 * size_t(q)];
+      d.values[2 * e + 1] = sum_weight[2 * size_t(q) + 1];
+    }
+  }
+  return d;
+}
+
 // One target node's sums over its source rows, for S σ at once (S fixed: the accumulators stay in
-// registers).
+// registers). The terms come in the order of the sparse sum (rows, then x), plus exact zeros
+// where a row has no node, so the sums are those of the nodes alone.
 struct LatticeSourceRow {
-  int begin, end, reach;
+  int run, run_end, reach;
   const double *weights; // S weights per dx, at dx = 0
 };
 
 template <int S>
-inline void gatherNode(int x, const int *node_x, const double *sum_weight,
+inline void gatherNode(int x, int R, const DenseRuns &dense,
                        std::vector<LatticeSourceRow> &sources, double *out) {
   double acc[2 * S] = {};
   for (LatticeSourceRow &src : sources) {
-    while (src.begin < src.end && node_x[src.begin] < x - src.reach) ++src.begin;
-    for (int q = src.begin; q < src.end && node_x[q] <= x + src.reach; ++q) {
-      const double *w = src.weights + (node_x[q] - x) * S;
-      const double sum = sum_weight[2 * q], weight = sum_weight[2 * q + 1];
+    while (src.run < src.run_end && dense.runs[src.run].x_last < x - R) ++src.run;
+    if (src.run == src.run_end || dense.runs[src.run].x_first > x + R) continue;
+    const DenseRuns::Run &run = dense.runs[src.run];
+    const double *d = &dense.values[2 * (run.start + size_t(x - run.x_first + 2 * R))];
+    for (int dx = -src.reach; dx <= src.reach; ++dx) {
+      const double *w = src.weights + dx * S;
+      const double sum = d[2 * dx], weight = d[2 * dx + 1];
       for (int s = 0; s < S; ++s) {
         acc[2 * s] += w[s] * sum;
         acc[2 * s + 1] += w[s] * weight;
@@ -203,12 +259,12 @@ inline LatticeKernel latticeKernel(double h, const std::vector<double> &sigmas,
 }
 
 // The convolution of one lattice with a kernel: out[node · 2S + 2s + {0, 1}] (sized by the caller)
-// = Σ_q g_s(q − node) · {sum, weight}[q], sum_weight holding (sum, weight) per node. Every node
-// gathers from the nodes within the cut-off (deterministic). Call it inside a parallel region: it
+// = Σ_q g_s(q − node) · {sum, weight}[q], `dense` holding the (sum, weight) of the nodes as runs
+// (denseRuns). Every node gathers from the nodes within the cut-off (deterministic). Call it inside a parallel region: it
 // shares the rows among the threads without waiting at the end (`nowait`), so the lattices of a
 // chain are convolved in one region.
 inline void convolveLatticeRows(const SparseLattice &lattice, const LatticeKernel &kernel,
-                                const std::vector<double> &sum_weight, std::vector<double> &out) {
+                                const DenseRuns &dense, std::vector<double> &out) {
   const int R = kernel.R, width = kernel.width, S = kernel.S;
   const int row_count = int(lattice.row_key.size());
   const std::uint64_t ny = lattice.ny;
@@ -231,7 +287,7 @@ inline void convolveLatticeRows(const SparseLattice &lattice, const LatticeKerne
         const int dy = int(std::int64_t(*it - base) - j), d2 = dy * dy + dz * dz;
         if (d2 > R * R) continue;
         const int index = int(it - lattice.row_key.begin());
-        sources.push_back({lattice.row_start[index], lattice.row_start[index + 1],
+        sources.push_back({dense.row_run[index], dense.row_run[index + 1],
                            int(std::sqrt(double(R * R - d2)) + 1e-9),
                            &kernel.table[((size_t(dz + R) * width + (dy + R)) * width + R) * S]});
       }
@@ -240,10 +296,10 @@ inline void convolveLatticeRows(const SparseLattice &lattice, const LatticeKerne
       double *o = &out[size_t(t) * 2 * S];
       const int x = lattice.x[t];
       switch (S) {
-      case 1: gatherNode<1>(x, lattice.x.data(), sum_weight.data(), sources, o); break;
-      case 2: gatherNode<2>(x, lattice.x.data(), sum_weight.data(), sources, o); break;
-      case 3: gatherNode<3>(x, lattice.x.data(), sum_weight.data(), sources, o); break;
-      default: gatherNode<4>(x, lattice.x.data(), sum_weight.data(), sources, o); break;
+      case 1: gatherNode<1>(x, R, dense, sources, o); break;
+      case 2: gatherNode<2>(x, R, dense, sources, o); break;
+      case 3: gatherNode<3>(x, R, dense, sources, o); break;
+      default: gatherNode<4>(x, R, dense, sources, o); break;
       }
     }
   }
@@ -254,7 +310,8 @@ inline void convolveLatticeRows(const SparseLattice &lattice, const LatticeKerne
 inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
                                       const std::vector<double> &sigmas,
                                       const LatticeOptions &options,
-                                      std::vector<std::vector<double>> &means) {
+                                      std::vector<std::vector<double>> &means,
+                                      bool parallel = true) {
   const int m = int(points.size()), S = int(sigmas.size());
   if (m == 0 || S == 0) return;
   const int k = std::max(1, options.nodes_per_sigma);
@@ -314,7 +371,7 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
         corners[c][corner] =
             nodes.insert(cells.keys()[c] + (corner & 1) + ((corner >> 1) & 1) * base.nx +
                          ((corner >> 2) & 1) * base.nx * base.ny);
-    const std::vector<int> position = lattice[0].assign(nodes.keys());
+    const std::vector<int> position = lattice[0].assign(nodes.keys(), parallel);
     for (auto &c : corners)
       for (int &node : c) node = position[node];
   }
@@ -330,7 +387,7 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
 
   // Splat: each cell's share of its 8 corners (parallel), then the cells into the nodes (serial).
   std::vector<std::array<double, 16>> cell_splat(cell_count);
-#pragma omp parallel for schedule(dynamic, 256) if (m >= min_parallel_vertices)
+#pragma omp parallel for schedule(dynamic, 256) if (parallel && m >= min_parallel_vertices)
   for (int c = 0; c < cell_count; ++c) {
     std::array<double, 16> acc{};
     for (int i = cell_start[c]; i < cell_start[c + 1]; ++i) {
@@ -380,7 +437,7 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
           for (int a = 0; a < ni; ++a)
             up[p][count++] = nodes.insert((cl[c] * coarse.ny + cj[b]) * coarse.nx + ci[a]);
     }
-    const std::vector<int> position = coarse.assign(nodes.keys());
+    const std::vector<int> position = coarse.assign(nodes.keys(), parallel);
     splat[L].assign(2 * size_t(coarse.size()), 0.0);
     for (int p = 0; p < fine_count; ++p)
       for (int &parent : up[p]) {
@@ -412,9 +469,13 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
     kernels[L] = latticeKernel(lattice[L].h, level_sigmas, options.variance_correction);
     own[L].assign(size_t(lattice[L].size()) * 2 * level_sigmas.size(), 0.0);
   }
-#pragma omp parallel if (m >= min_parallel_vertices)
+  std::vector<DenseRuns> dense(levels);
   for (int L = 0; L < levels; ++L)
-    if (kernels[L].S > 0) convolveLatticeRows(lattice[L], kernels[L], splat[L], own[L]);
+    if (kernels[L].S > 0) dense[L] = denseRuns(lattice[L], splat[L], kernels[L].R);
+#pragma omp parallel if (parallel && m >= min_parallel_vertices)
+  for (int L = 0; L < levels; ++L)
+    if (kernels[L].S > 0) convolveLatticeRows(lattice[L], kernels[L], dense[L], own[L]);
+  std::vector<DenseRuns>().swap(dense);
   std::vector<double> coarser;
   for (int L = levels - 1; L >= 0; --L) {
     const int own_count = first_slot[L + 1] - first_slot[L], below = S - first_slot[L + 1];
@@ -443,7 +504,7 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
 
   // Slice (parallel over cells: a cell's vertices share its corners).
   for (int s = 0; s < S; ++s) means[s].resize(m);
-#pragma omp parallel for schedule(dynamic, 256) if (m >= min_parallel_vertices)
+#pragma omp parallel for schedule(dynamic, 256) if (parallel && m >= min_parallel_vertices)
   for (int c = 0; c < cell_count; ++c) {
     for (int i = cell_start[c]; i < cell_start[c + 1]; ++i) {
       const int a = cell_vertices[i];
@@ -504,22 +565,40 @@ inline void latticeGaussianMeans(const std::vector<Vec3> &positions, const std::
   if (!options.chains_only) {
     latticeGaussianMeansChain(points, sigmas, options, sorted_means);
   } else {
+    // The chains: from the smallest σ not yet taken, every σ that is it times a power of two.
+    std::vector<std::vector<int>> chains;
     std::vector<int> done(S, 0);
     for (int first = 0; first < S; ++first) {
       if (done[first]) continue;
-      // The chain of the smallest σ not yet done: every σ that is σ_first times a power of two.
-      std::vector<int> chain;
+      chains.emplace_back();
       for (int s = 0; s < S; ++s) {
         const double ratio = std::log2(sigmas[s] / sigmas[first]);
         if (!done[s] && ratio > -1e-9 && std::abs(ratio - std::round(ratio)) < 1e-9)
-          chain.push_back(s);
+          chains.back().push_back(s), done[s] = 1;
       }
-      std::vector<double> chain_sigmas;
-      for (int s : chain) chain_sigmas.push_back(sigmas[s]), done[s] = 1;
-      std::vector<std::vector<double>> chain_means(chain.size());
-      latticeGaussianMeansChain(points, chain_sigmas, options, chain_means);
-      for (size_t c = 0; c < chain.size(); ++c) sorted_means[chain[c]].swap(chain_means[c]);
     }
+    // With no more threads than chains, each thread takes whole chains (the first, on the finest
+    // lattice, is the largest): a chain's serial steps (hashing its nodes, restricting them to the
+    // coarser lattices) were about half its time at 100k vertices, with the other thread waiting.
+    // With more threads, the chains run one after another, each on all of them. The means are the
+    // same either way (no sum depends on the threads).
+    int threads = 1;
+#ifdef _OPENMP
+    threads = omp_get_max_threads();
+#endif
+    const bool by_chain = chains.size() > 1 && threads > 1 && threads <= int(chains.size()) &&
+                          m >= min_parallel_vertices;
+    AllocationGuard guard;
+#pragma omp parallel for schedule(dynamic, 1) if (by_chain)
+    for (int c = 0; c < int(chains.size()); ++c)
+      guard.run([&] {
+        std::vector<double> chain_sigmas;
+        for (int s : chains[c]) chain_sigmas.push_back(sigmas[s]);
+        std::vector<std::vector<double>> chain_means(chains[c].size());
+        latticeGaussianMeansChain(points, chain_sigmas, options, chain_means, !by_chain);
+        for (size_t k = 0; k < chains[c].size(); ++k) sorted_means[chains[c][k]].swap(chain_means[k]);
+      });
+    guard.rethrow();
   }
   for (int s = 0; s < S; ++s) {
     means[s].resize(positions.size());

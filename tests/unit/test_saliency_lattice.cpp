@@ -104,8 +104,70 @@ TEST(SaliencyLattice, IndependentOfVertexOrderAndThreadCount) {
   detail::latticeGaussianMeans(m.points, allVertices(n), map, sigmas, {}, one);
   omp_set_num_threads(2);
   detail::latticeGaussianMeans(m.points, allVertices(n), map, sigmas, {}, two);
+  // Two threads take the three chains one each; four run the chains one after another, each on
+  // all four.
+  std::vector<std::vector<double>> four(8);
+  omp_set_num_threads(4);
+  detail::latticeGaussianMeans(m.points, allVertices(n), map, sigmas, {}, four);
   omp_set_num_threads(threads);
   EXPECT_EQ(one, two);
+  EXPECT_EQ(one, four);
+}
+
+// The convolution reads each row as dense runs (zeros between nodes); its sums must be those of
+// the nodes alone, term by term in the same order (rows by dz, dy; nodes by x): the same bits as
+// the sparse sum written out here. Rows with runs split (gaps above 2R) and kept whole (gaps up
+// to 2R), nodes at the lattice's edges, one and three σ per lattice.
+TEST(SaliencyLattice, DenseRunsConvolveToTheBitsOfTheSparseSum) {
+  for (const std::vector<double> &sigmas : {std::vector<double>{2.0}, {2.0, 2.7, 3.4}}) {
+    detail::SparseLattice lattice;
+    lattice.h = 1;
+    lattice.nx = 80, lattice.ny = 12;
+    std::vector<std::uint64_t> keys;
+    std::uint64_t state = 12345;
+    auto next = [&] { return state = state * 6364136223846793005ull + 1442695040888963407ull; };
+    for (std::uint64_t l = 0; l < 10; ++l)
+      for (std::uint64_t j = 0; j < lattice.ny; ++j)
+        for (std::uint64_t i = 0; i < lattice.nx; ++i)
+          // Clusters along x (about 1 node in 3 near x = 5..20 and 60..75), some rows empty.
+          if ((j + l) % 5 != 3 && ((i >= 5 && i <= 20) || i >= 60 || i == 0) && next() % 3 == 0)
+            keys.push_back((l * lattice.ny + j) * lattice.nx + i);
+    lattice.assign(keys, false);
+    const detail::LatticeKernel kernel = detail::latticeKernel(1.0, sigmas, 1.0);
+    const int R = kernel.R, S = kernel.S, width = kernel.width, count = lattice.size();
+    std::vector<double> sum_weight(2 * size_t(count));
+    for (double &v : sum_weight) v = double(next() % 2001) / 1000.0 - 1.0;
+    std::vector<double> out(size_t(count) * 2 * S);
+    detail::convolveLatticeRows(lattice, kernel, detail::denseRuns(lattice, sum_weight, R), out);
+
+    long compared = 0;
+    for (int t = 0; t < count; ++t) {
+      const std::int64_t x = lattice.x[t], j = std::int64_t(lattice.key[t] / lattice.nx % lattice.ny),
+                         l = std::int64_t(lattice.key[t] / (lattice.nx * lattice.ny));
+      std::vector<double> acc(2 * S, 0.0);
+      for (int dz = -R; dz <= R; ++dz)
+        for (int dy = -R; dy <= R; ++dy) {
+          const int d2 = dy * dy + dz * dz;
+          if (d2 > R * R || l + dz < 0 || j + dy < 0 || j + dy >= std::int64_t(lattice.ny)) continue;
+          const int reach = int(std::sqrt(double(R * R - d2)) + 1e-9);
+          for (int q = 0; q < count; ++q) {
+            const std::int64_t qj = std::int64_t(lattice.key[q] / lattice.nx % lattice.ny),
+                               ql = std::int64_t(lattice.key[q] / (lattice.nx * lattice.ny));
+            const std::int64_t dx = lattice.x[q] - x;
+            if (ql != l + dz || qj != j + dy || dx < -reach || dx > reach) continue;
+            const double *w =
+                &kernel.table[((size_t(dz + R) * width + (dy + R)) * width + (dx + R)) * S];
+            for (int s = 0; s < S; ++s) {
+              acc[2 * s] += w[s] * sum_weight[2 * size_t(q)];
+              acc[2 * s + 1] += w[s] * sum_weight[2 * size_t(q) + 1];
+            }
+          }
+        }
+      for (int q = 0; q < 2 * S; ++q) ASSERT_EQ(out[size_t(t) * 2 * S + q], acc[q]) << t << " " << q;
+      ++compared;
+    }
+    EXPECT_GT(compared, 300);
+  }
 }
 
 TEST(SaliencyLattice, FastSaliencyIsCloseToTheExactOneOnALargeNoisyMesh) {
