@@ -104,14 +104,18 @@ TEST(SaliencyLattice, IndependentOfVertexOrderAndThreadCount) {
   detail::latticeGaussianMeans(m.points, allVertices(n), map, sigmas, {}, one);
   omp_set_num_threads(2);
   detail::latticeGaussianMeans(m.points, allVertices(n), map, sigmas, {}, two);
-  // Two threads take the three chains one each; four run the chains one after another, each on
-  // all four.
-  std::vector<std::vector<double>> four(8);
+  // Two threads take the three chains one each (on a mesh this small); four run the chains one
+  // after another, each on all four, and so do two above the size limit for whole chains.
+  std::vector<std::vector<double>> four(8), two_in_turn(8);
+  detail::LatticeOptions in_turn;
+  in_turn.chains_in_parallel_below = 0;
+  detail::latticeGaussianMeans(m.points, allVertices(n), map, sigmas, in_turn, two_in_turn);
   omp_set_num_threads(4);
   detail::latticeGaussianMeans(m.points, allVertices(n), map, sigmas, {}, four);
   omp_set_num_threads(threads);
   EXPECT_EQ(one, two);
   EXPECT_EQ(one, four);
+  EXPECT_EQ(one, two_in_turn);
 }
 
 // The convolution reads each row as dense runs (zeros between nodes); its sums must be those of
