@@ -214,11 +214,13 @@ inline void eraseNaN(std::vector<double> &values) {
 }
 
 // The k-th smallest of `values` (0-based): the value std::nth_element puts at position k, which
-// does not depend on how it is found. Large arrays in parallel: a bracket around it from a regular
-// sample, one counting sweep, then a selection among the values inside the bracket (a sample
-// that misses falls back to std::nth_element). Reorders `values`.
+// does not depend on how it is found. Large arrays: a bracket around it from a regular sample, one
+// counting sweep (in parallel), then a selection among the values inside the bracket, about an
+// eighth of them (a sample that misses falls back to std::nth_element). From 50k values on: a
+// plain selection of 300k values took 3 ms, a serial step the noise estimate took four times at
+// 100k vertices. Reorders `values`.
 inline double kthSmallest(std::vector<double> &values, size_t k,
-                          size_t parallel_from = 1000000) {
+                          size_t parallel_from = 50000) {
   const size_t n = values.size();
 #ifndef _OPENMP
   parallel_from = n + 1; // one thread: the plain selection
