@@ -6,6 +6,8 @@ interleaved rounds, their ratios, and the automatic mode's choice on each mesh.
 
     python3 bench/scale.py [--build build] [--rounds 3] [--big-rounds 1] [--sizes 10k,100k,1M,2M,10M]
 
+Installs what it needs and builds first (bench/prepare.sh; --no-prepare skips it).
+
 The meshes are the benchmark's noisy Bunny0.2 (34,834 vertices), decimated where a size needs it
 (MeshLab's Quadric Edge Collapse Decimation), taken through Loop subdivision steps in MeshLab (its
 "Subdivision Surfaces: Loop") and given noise of 0.2 mean edge lengths in random directions
@@ -18,6 +20,7 @@ import json
 import pathlib
 import re
 import statistics
+import subprocess
 import sys
 import time
 
@@ -188,7 +191,13 @@ def main():
     ap.add_argument("--big-rounds", type=int, default=1)
     ap.add_argument("--sizes", default=",".join(SIZES))
     ap.add_argument("--make-only", action="store_true", help="make (cache) the meshes and stop")
+    ap.add_argument("--no-prepare", action="store_true",
+                    help="skip bench/prepare.sh (packages and build already there)")
     args = ap.parse_args()
+    if not args.no_prepare:
+        # The packages (GNU time, Xvfb, MeshLab, matplotlib for the plot) and the build, before
+        # the first round rather than a failure at the plot after the last.
+        subprocess.run(["bash", str(REPO / "bench" / "prepare.sh"), args.build], check=True)
     work = OUT / "work"
     work.mkdir(parents=True, exist_ok=True)
     runner = bench.Runner(pathlib.Path(args.build).resolve(), work)

@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # One thread against two on the default (tools/smooth_mesh, the filter's core in-process), rounds
 # interleaved: wall and CPU seconds, peak memory, medians, the speed-up, and whether the two
-# outputs are byte-identical. Needs the scale benchmark's meshes (python3 bench/scale.py).
+# outputs are byte-identical. Needs the scale benchmark's meshes (python3 bench/scale.py); installs
+# and builds what it needs (bench/prepare.sh).
 #   bash bench/thread_scaling.sh [MESH] [ROUNDS] [BUILD]
 set -euo pipefail
 top=$(cd "$(dirname "$0")/.." && pwd)
 mesh=${1:-$top/bench/out/scale/meshes/bunny_2M_n0.2.ply}
 rounds=${2:-3}
 build=${3:-$top/build}
+bash "$top/bench/prepare.sh" "$build" # GNU time and the tools
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 for r in $(seq "$rounds"); do
