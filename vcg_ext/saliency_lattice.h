@@ -154,7 +154,7 @@ struct LatticeOptions {
 // between its nodes and 2R zeros at either end, so that every target within R of a run reads the
 // run's window x − ρ … x + ρ (ρ ≤ R) at fixed offsets. The gather's trip counts then depend on the
 // kernel's shape only, not on which nodes the data holds: the sparse rows' loops (a few nodes per
-// row, their ends found by comparisons) mispredicted a branch per row and target.
+// row, their ends found by comparing node positions) were the convolution's cost.
 struct DenseRuns {
   struct Run {
     int x_first, x_last; // the run's first and last node
@@ -165,23 +165,28 @@ struct DenseRuns {
   std::vector<double> values; // (sum, weight) per entry
 };
 
+// The runs of `lattice` (rows as in SparseLattice) for a kernel of radius R, holding the nodes'
+// (sum, weight) pairs `sum_weight`.
 inline DenseRuns denseRuns(const SparseLattice &lattice, const std::vector<double> &sum_weight,
                            int R) {
   DenseRuns d;
   const int rows = int(lattice.row_key.size());
   d.row_run.assign(rows + 1, 0);
   size_t entries = 0;
+  auto close_last_run = [&] {
+    entries += size_t(d.runs.back().x_last - d.runs.back().x_first) + 4 * R + 1;
+  };
   for (int r = 0; r < rows; ++r) {
     d.row_run[r] = int(d.runs.size());
     for (int q = lattice.row_start[r]; q < lattice.row_start[r + 1]; ++q) {
-      if (q == lattice.row_start[r] || lattice.x[q] - lattice.x[q - 1] > 2 * R) {
-        if (q != lattice.row_start[r]) entries += size_t(d.runs.back().x_last - d.runs.back().x_first) + 4 * R + 1;
+      const bool first = q == lattice.row_start[r];
+      if (first || lattice.x[q] - lattice.x[q - 1] > 2 * R) {
+        if (!first) close_last_run();
         d.runs.push_back({lattice.x[q], lattice.x[q], entries});
       }
       d.runs.back().x_last = lattice.x[q];
     }
-    if (lattice.row_start[r + 1] > lattice.row_start[r])
-      entries += size_t(d.runs.back().x_last - d.runs.back().x_first) + 4 * R + 1;
+    if (lattice.row_start[r + 1] > lattice.row_start[r]) close_last_run();
   }
   d.row_run[rows] = int(d.runs.size());
   d.values.assign(2 * entries, 0.0);
@@ -262,9 +267,9 @@ inline LatticeKernel latticeKernel(double h, const std::vector<double> &sigmas,
 
 // The convolution of one lattice with a kernel: out[node · 2S + 2s + {0, 1}] (sized by the caller)
 // = Σ_q g_s(q − node) · {sum, weight}[q], `dense` holding the (sum, weight) of the nodes as runs
-// (denseRuns). Every node gathers from the nodes within the cut-off (deterministic). Call it inside a parallel region: it
-// shares the rows among the threads without waiting at the end (`nowait`), so the lattices of a
-// chain are convolved in one region.
+// (denseRuns). Every node gathers from the nodes within the cut-off (deterministic). Call it
+// inside a parallel region: it shares the rows among the threads without waiting at the end
+// (`nowait`), so the lattices of a chain are convolved in one region.
 inline void convolveLatticeRows(const SparseLattice &lattice, const LatticeKernel &kernel,
                                 const DenseRuns &dense, std::vector<double> &out) {
   const int R = kernel.R, width = kernel.width, S = kernel.S;
@@ -602,7 +607,8 @@ inline void latticeGaussianMeans(const std::vector<Vec3> &positions, const std::
         for (int s : chains[c]) chain_sigmas.push_back(sigmas[s]);
         std::vector<std::vector<double>> chain_means(chains[c].size());
         latticeGaussianMeansChain(points, chain_sigmas, options, chain_means, !by_chain);
-        for (size_t k = 0; k < chains[c].size(); ++k) sorted_means[chains[c][k]].swap(chain_means[k]);
+        for (size_t k = 0; k < chains[c].size(); ++k)
+          sorted_means[chains[c][k]].swap(chain_means[k]);
       });
     guard.rethrow();
   }
