@@ -1,34 +1,19 @@
 #!/usr/bin/env bash
 # What every benchmark needs, once: the build dependencies (scripts/setup.sh), the benchmark's own
 # Debian packages (as root or with sudo; quiet when already there) and the plugin and tools built
-# into BUILD (default: $SBS_BUILD_DIR or build/). bench/run.sh and bench/scale.py call it.
+# into BUILD (default: $SBS_BUILD_DIR or build/). bench/run.sh, bench/scale.py and
+# bench/thread_scaling.sh call it.
 #   bash bench/prepare.sh [BUILD]
 set -euo pipefail
 top=$(cd "$(dirname "$0")/.." && pwd)
 build="${1:-${SBS_BUILD_DIR:-$top/build}}"
 
 log() { echo "[bench] $*" >&2; }
-as_root() {
-  if [ "$(id -u)" -eq 0 ]; then "$@"; elif command -v sudo >/dev/null; then sudo "$@";
-  else log "need root for: $*"; exit 1; fi
-}
 
-# Build dependencies, MeshLab 2020.09 headers and vcglib (quiet when already there).
-bash "$top/scripts/setup.sh"
-
-# The benchmark's own: plots, the libcgal-demo meshes, GNU time for peak memory, Xvfb, MeshLab and
-# the SD filter (meshsdfilter-tools: MeshDenoiser), the peers.
-packages=(python3-numpy python3-matplotlib libcgal-demo time xvfb meshlab meshsdfilter-tools)
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  log "installing Debian packages: ${missing[*]}"
-  as_root apt-get update -qq >/dev/null 2>&1 || true
-  as_root env DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=900 install -y -qq \
-    --no-install-recommends "${missing[@]}" >/dev/null
-fi
+# Build dependencies, MeshLab 2020.09 headers and vcglib, and the benchmark's own packages: plots,
+# the libcgal-demo meshes, GNU time for peak memory and the SD filter (meshsdfilter-tools:
+# MeshDenoiser), a peer (scripts/setup.sh installs what is missing; Xvfb and MeshLab come with it).
+bash "$top/scripts/setup.sh" python3-matplotlib libcgal-demo time meshsdfilter-tools
 
 log "building into $build"
 mkdir -p "$build"

@@ -11,6 +11,8 @@ ml_dir="$deps/meshlab-2020.09"
 
 packages=(build-essential cmake dpkg-dev meshlab qtbase5-dev libqt5opengl5-dev libeigen3-dev
           libglew-dev libgtest-dev xvfb xauth xdotool imagemagick python3-numpy)
+# A caller's own packages, installed with these (bench/prepare.sh): `setup.sh [PACKAGE ...]`.
+packages+=("$@")
 
 log() { echo "[setup] $*" >&2; }
 
@@ -35,7 +37,8 @@ done
 if [ ${#missing[@]} -gt 0 ]; then
   log "installing Debian packages: ${missing[*]}"
   apt_update
-  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  as_root env DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=900 install -y -qq \
+    --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
 installed=$(dpkg-query -W -f='${Version}' meshlab)
