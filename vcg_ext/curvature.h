@@ -155,7 +155,7 @@ inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<
   std::vector<std::uint8_t> interior_valid(n, 0);
   std::vector<std::uint8_t> degenerate(n, 0);
 
-#pragma omp parallel for schedule(dynamic, 2048) if (n >= min_parallel_vertices)
+#pragma omp parallel for schedule(dynamic, 2048) if (parallelHeavy(n))
   for (int v = 0; v < n; ++v) {
     const Vec3 &normal = out.normal[v];
     Vec3 t1 = Vec3::Zero(), t2 = Vec3::Zero();

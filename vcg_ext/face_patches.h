@@ -316,7 +316,7 @@ long fitFacePatchesWith(const std::vector<Vec3> &points, const std::vector<Face>
   double mean_area = 0;
   for (double a : area) mean_area += a / face_count;
   long fallbacks = 0;
-#pragma omp parallel reduction(+ : fallbacks) if (face_count >= min_parallel_vertices)
+#pragma omp parallel reduction(+ : fallbacks) if (parallelHeavy(face_count))
   {
     std::vector<int> scratch;
 #pragma omp for schedule(static)

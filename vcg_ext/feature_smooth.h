@@ -369,7 +369,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
           relax.swap(relax_next);
         }
       }
-#pragma omp parallel for schedule(static) reduction(+ : rejected) if (n >= min_parallel_vertices)
+#pragma omp parallel for schedule(static) reduction(+ : rejected) if (parallelHeavy(n))
       for (int v = 0; v < n; ++v) {
         next[v] = current[v];
         if (fixed[v] || rings.ring1Size(v) == 0) continue;

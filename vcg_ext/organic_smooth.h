@@ -151,7 +151,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
                                             params.patches, face_alpha, patches);
       if (report.boundary_vertices)
         computeBoundaryVertexNormals(current, mesh.faces, rings, vertex_normals);
-#pragma omp parallel for schedule(static) reduction(+ : rejected) if (n >= min_parallel_vertices)
+#pragma omp parallel for schedule(static) reduction(+ : rejected) if (parallelHeavy(n))
       for (int v = 0; v < n; ++v) {
         next[v] = current[v];
         if (fixed[v] || rings.ring1Size(v) == 0) continue;

@@ -47,6 +47,17 @@ struct Rings {
 // small meshes through the parallel paths: tests/unit/test_saliency_lattice.cpp sets it to 0.)
 inline int min_parallel_vertices = 20000;
 
+// The stages whose work per element is a microsecond or more (the patch fits and the vertices'
+// moves onto the patches, the saliency's exact sums and lattice chains, the curvature fits) run
+// in parallel from this many elements: a few regions per run, each long enough that a wait for a
+// descheduled thread stays small against it (a 10k-vertex mesh: the filter 0.115 -> 0.093 s on a
+// quiet machine, 0.116 -> 0.135 s beside a busy process, against 1.16 s with every stage in
+// parallel; bench/PERFORMANCE.md). Never above min_parallel_vertices (the tests set that to 0).
+inline int min_parallel_heavy = 5000;
+inline bool parallelHeavy(long count) {
+  return count >= std::min(min_parallel_vertices, min_parallel_heavy);
+}
+
 namespace detail {
 
 // An allocation that fails inside an OpenMP region cannot leave it as an exception (the runtime

@@ -335,7 +335,7 @@ inline void computeSaliencyImpl(const std::vector<Vec3> &points, const Rings &ri
     grid.build(points, centred, active, radius / std::max(options.cells_per_radius, 1));
     for (int s = 0; s < exact_count; ++s) means[s].assign(n, 0.0);
     // Queries in grid order, so consecutive queries share their neighbours in cache.
-#pragma omp parallel for schedule(dynamic, 256) if (n >= min_parallel_vertices)
+#pragma omp parallel for schedule(dynamic, 256) if (parallelHeavy(n))
     for (int a = 0; a < int(active.size()); ++a) {
       const int v = grid.sorted_vertex[a];
       double m[kSaliencySigmaCount];

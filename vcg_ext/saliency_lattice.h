@@ -598,7 +598,7 @@ inline void latticeGaussianMeans(const std::vector<Vec3> &positions, const std::
     threads = omp_get_max_threads();
 #endif
     const bool by_chain = chains.size() > 1 && threads > 1 && threads <= int(chains.size()) &&
-                          m >= min_parallel_vertices && m < options.chains_in_parallel_below;
+                          parallelHeavy(m) && m < options.chains_in_parallel_below;
     AllocationGuard guard;
 #pragma omp parallel for schedule(dynamic, 1) if (by_chain)
     for (int c = 0; c < int(chains.size()); ++c)
