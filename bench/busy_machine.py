@@ -95,9 +95,10 @@ def write_markdown(results, args, path):
               "the thread still working, at every one of the filter's few hundred parallel steps. "
               "`OMP_WAIT_POLICY=passive` makes waiting threads sleep at once. The runtime reads it "
               "when it starts, before any plugin runs, so it is set where MeshLab, meshlabserver "
-              "or Python is started (the plugin cannot change it). Below 20k vertices the filter "
-              "runs on one thread (vcg_ext/rings.h `min_parallel_vertices`), so the 10k mesh "
-              "does not wait for threads either way."]
+              "or Python is started (the plugin cannot change it). Below 20k vertices only the "
+              "heavy stages run in parallel (from 5k elements: a few regions per run; "
+              "vcg_ext/rings.h `parallelHeavy`), so the 10k mesh waits for threads far less "
+              "often than the larger ones."]
     path.write_text("\n".join(lines) + "\n")
 
 
