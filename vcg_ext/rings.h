@@ -114,6 +114,9 @@ void buildCsrInBlocks(int n, std::vector<int> &offsets, std::vector<int> &values
 // merge sort). For values that are all distinct or equal only when identical, the result is the
 // same as std::sort's.
 template <class T> void parallelSort(std::vector<T> &values) {
+  // Already sorted (the second Morton order of a mesh the driver put in that order): a check
+  // instead of a sort, the same sequence (equal elements are equal values).
+  if (std::is_sorted(values.begin(), values.end())) return;
 #ifdef _OPENMP
   if (values.size() >= size_t(min_parallel_vertices)) {
     __gnu_parallel::sort(values.begin(), values.end());

@@ -9,6 +9,7 @@
 #include <vcg_ext/spatial_taubin.h>
 
 #include <omp.h>
+#include <random>
 #include <set>
 
 using namespace vcg_ext;
@@ -194,4 +195,25 @@ TEST(SpatialOrder, ParallelSortGivesTheComparisonSortsOrderForAnyThreadCount) {
   min_parallel_vertices = saved;
   EXPECT_EQ(a.faces, b.faces);
   EXPECT_TRUE(std::is_sorted(a.faces.begin(), a.faces.end()));
+}
+
+// parallelSort: std::sort's sequence, whether the input is shuffled, sorted already (the check that
+// skips the sort) or sorted but for its last two values (which the check must not skip).
+TEST(ParallelSort, GivesStdSortsSequenceForShuffledSortedAndNearlySortedInput) {
+  std::mt19937 random(5);
+  std::vector<std::pair<std::uint64_t, int>> shuffled(60000);
+  for (int i = 0; i < int(shuffled.size()); ++i) shuffled[i] = {random() % 5000, i};
+  std::vector<std::pair<std::uint64_t, int>> expected = shuffled;
+  std::sort(expected.begin(), expected.end());
+
+  std::vector<std::pair<std::uint64_t, int>> values = shuffled;
+  vcg_ext::detail::parallelSort(values);
+  EXPECT_TRUE(values == expected);
+  vcg_ext::detail::parallelSort(values); // sorted already
+  EXPECT_TRUE(values == expected);
+  values = expected;
+  std::swap(values[values.size() - 1], values[values.size() - 2]);
+  ASSERT_FALSE(values == expected);
+  vcg_ext::detail::parallelSort(values);
+  EXPECT_TRUE(values == expected);
 }
