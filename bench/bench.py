@@ -224,14 +224,16 @@ class Runner:
         return {"wall": wall, "rss": rss, "filter": info["seconds"], "stages": stages,
                 "log": proc.stderr}
 
-    def meshlab(self, src, out, mlx, timed=False):
+    def meshlab(self, src, out, mlx, timed=False, extra_env=None):
+        """extra_env: variables added to the run's environment (e.g. OMP_WAIT_POLICY)."""
         args = [self.meshlabserver, "-i", src, "-o", out]
         if mlx is not None:
             args += ["-s", mlx]
+        env = dict(self.env, **extra_env) if extra_env else None
         for attempt in range(3):
             if pathlib.Path(out).exists():
                 pathlib.Path(out).unlink()
-            proc, wall, rss = self.run(args, timed=timed)
+            proc, wall, rss = self.run(args, timed=timed, env=env)
             if proc.returncode == 0 and pathlib.Path(out).exists():
                 return {"wall": wall, "rss": rss, "log": proc.stdout + proc.stderr}
             text = proc.stdout + proc.stderr

@@ -33,15 +33,6 @@ VARIANTS = {"ours": {}, "ours, OMP_WAIT_POLICY=passive": {"OMP_WAIT_POLICY": "pa
 BUSY_LOOP = "while True: pass"
 
 
-def run_variant(runner, mesh, out, mlx, extra_env):
-    env = dict(runner.env, **extra_env)
-    proc, wall, _ = runner.run([runner.meshlabserver, "-i", mesh, "-o", out, "-s", mlx], env=env)
-    if proc.returncode != 0 or not out.exists():
-        raise bench.BenchError(f"meshlabserver {mesh} {mlx} {extra_env} failed: "
-                               f"{(proc.stdout + proc.stderr)[-1500:]}")
-    return wall
-
-
 def measure(runner, label, mesh, rounds, busy, mlx):
     walls = {v: [] for v in VARIANTS}
     identical = []
@@ -52,7 +43,7 @@ def measure(runner, label, mesh, rounds, busy, mlx):
             outs = {}
             for v, extra in VARIANTS.items():
                 outs[v] = OUT / "work" / f"out_{len(outs)}.ply"
-                walls[v].append(run_variant(runner, mesh, outs[v], mlx[v], extra))
+                walls[v].append(runner.meshlab(mesh, outs[v], mlx[v], extra_env=extra)["wall"])
                 bench.log(f"{label} {'busy' if busy else 'quiet'} round {rnd + 1} {v}: "
                           f"{walls[v][-1]:.2f} s")
             ours = [outs[v] for v in VARIANTS if v.startswith("ours")]
@@ -68,8 +59,8 @@ def measure(runner, label, mesh, rounds, busy, mlx):
 def write_markdown(results, args, path):
     lines = ["# The default on a busy machine", "",
              "Whole `meshlabserver` runs (binary PLY in and out) of our filter at its defaults and "
-             "of MeshLab's Taubin Smooth x10 (lambda 0.5, mu -0.53) on the scale benchmark's meshes "
-             "(bench/SCALE.md), on a quiet machine and with one other process keeping a core busy "
+             "of MeshLab's Taubin Smooth x10 (lambda 0.5, mu -0.53) on the scale benchmark's "
+             "meshes (bench/SCALE.md), on a quiet machine and with one other process keeping a core busy "
              "(a Python busy loop). Ours runs as installed (the OpenMP runtime's defaults), with "
              "`OMP_WAIT_POLICY=passive` and with `OMP_NUM_THREADS=1`. Medians of interleaved "
              "rounds, wall seconds; machine: "
