@@ -64,6 +64,7 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   real("o.fixed_alpha", o.bands.fixed_alpha);
   real("o.max_alpha", o.bands.max_alpha);
   real("o.robust_quantile", o.bands.robust_quantile);
+  real("o.chebyshev_tolerance", o.bands.chebyshev_tolerance);
   r["o.coloured"] = [&o](double v) { o.coloured_noise = v != 0; };
   real("o.max_octave_rise", o.colour.max_octave_rise);
   real("o.max_rise", o.colour.max_rise);
@@ -86,6 +87,8 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   integer("min_windows", p.windows.min_windows);
   integer("core_rings", p.windows.core_rings);
   real("window_errors", p.window_errors);
+  real("window_face_share", p.windows.face_share);
+  real("window_max_face_share", p.windows.max_face_share);
   return r;
 }
 
@@ -175,8 +178,10 @@ int main(int argc, char **argv) {
   std::printf("], \"flat_share\": %.4f, \"confirmed_share\": %.4f, \"crease_pairs\": %ld",
               a.evidence.flat_share, a.evidence.confirmed_share, a.evidence.crease_pairs);
   if (a.windowed)
-    std::printf(", \"windowed\": true, \"flat_error\": %.4f, \"confirmed_error\": %.4f",
-                a.flat_error, a.confirmed_error);
+    std::printf(", \"windowed\": true, \"flat_error\": %.4f, \"confirmed_error\": %.4f, "
+                "\"window_face_share\": %.3f",
+                a.flat_error, a.confirmed_error,
+                double(a.window_faces) / double(std::max(1, mesh.fn)));
   if (organic) {
     std::printf(", \"fine_snr\": %.3f, \"slope\": %.2f, \"coarse_snr\": %.2f", organic->bands.fine_snr, organic->bands.shape_slope, organic->bands.coarse_snr);
     std::printf(", \"noise_edges\": %.4f, \"alpha\": %.3f, \"gains\": [", organic->bands.noise_edges,
