@@ -328,6 +328,7 @@ def main():
         import shutil
         shutil.rmtree(work / "runs")  # an older run's results must not be scored again
     work.mkdir(parents=True, exist_ok=True)
+    img_dir.mkdir(parents=True, exist_ok=True)
     runner = bench.Runner(pathlib.Path(args.build).resolve(), work)
     cases = make_scanner_cases(work, args.quick)
     light = [] if args.quick else make_light_cases(runner, work)

@@ -65,6 +65,8 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   real("o.max_alpha", o.bands.max_alpha);
   real("o.robust_quantile", o.bands.robust_quantile);
   real("o.chebyshev_tolerance", o.bands.chebyshev_tolerance);
+  real("o.noise_for_any_alpha", o.bands.noise_for_any_alpha);
+  real("o.noise_for_full_alpha", o.bands.noise_for_full_alpha);
   r["o.coloured"] = [&o](double v) { o.coloured_noise = v != 0; };
   real("o.max_octave_rise", o.colour.max_octave_rise);
   real("o.max_rise", o.colour.max_rise);

@@ -59,7 +59,7 @@ struct BandShrinkParams {
   // 1 to 0 as that coarse band's shape/noise ratio rises from coarse_snr_smooth to
   // coarse_snr_detailed. gate: 1 at a fine-band shape/noise ratio up to gate_snr_full, 0 from
   // gate_snr_none (linear in between). level: the noise estimate over noise_for_full_alpha mean
-  // edge lengths, at most 1. θ 1.80 % above the best α of a grid on average, the earlier threshold
+  // edge lengths, at most 1... θ 1.80 % above the best α of a grid on average, the earlier threshold
   // on the fine band alone 4.41 %, the best fixed α (1.5) 4.39 % (bench/ALPHA_CHOICE.md).
   int fine_band = 3;              // band whose shape/noise ratio gates α (4–8 pairs)
   int slope_fine_band = 4, slope_coarse_band = 7; // 8–16 and 64–128 pairs
@@ -67,6 +67,13 @@ struct BandShrinkParams {
   double gate_snr_full = 0.20, gate_snr_none = 0.35;
   double coarse_snr_smooth = 2.0, coarse_snr_detailed = 4.0;
   double noise_for_full_alpha = 0.25;
+  // ...and 0 up to noise_for_any_alpha, linear in between: the estimate reads 0.05-0.1 mean edge
+  // lengths on clean curved meshes too (curvature, see estimateNormalNoiseSigma), so at light
+  // noise it is no evidence for over-subtraction. 0.08: the camel with noise 0.05 / 0.1 in random
+  // directions wanted α = 1 and got 1.77 / 2.47 (θ above Taubin ×10's); on 36 light-noise cases
+  // of 18 other meshes θ ≤ Taubin ×10 on 29 instead of 25, and the 81 cases of
+  // bench/ALPHA_CHOICE.md keep their mean regret (1.88 -> 1.91 %). bench/SCANNER_NOISE.md.
+  double noise_for_any_alpha = 0.08;
   double fixed_alpha = 0; // > 0: this α instead (for measuring the choice: bench/alpha_choice.py)
   // The patch update's step (organic_smooth.h) grows with α: 0 at α = 1, whole at this α.
   double alpha_whole_patch_step = 3.0;
@@ -161,7 +168,9 @@ inline double alphaFromSpectrum(double shape_slope, double coarse_snr, double fi
   const double gate = std::clamp((params.gate_snr_none - fine_snr) /
                                      (params.gate_snr_none - params.gate_snr_full),
                                  0.0, 1.0);
-  const double level = std::clamp(noise_edges / params.noise_for_full_alpha, 0.0, 1.0);
+  const double level = std::clamp((noise_edges - params.noise_for_any_alpha) /
+                                      (params.noise_for_full_alpha - params.noise_for_any_alpha),
+                                  0.0, 1.0);
   const double smooth = std::clamp((params.coarse_snr_detailed - coarse_snr) /
                                       (params.coarse_snr_detailed - params.coarse_snr_smooth),
                                   0.0, 1.0);

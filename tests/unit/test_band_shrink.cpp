@@ -133,7 +133,7 @@ TEST(BandShrink, FineBandProbeCountFollowsTheMeshSize) {
 TEST(BandShrink, AlphaRisesWithTheSpectrumSlopeUnlessTheFineBandHoldsShape) {
   // α = 1 + rise · gate · level, in [1, 2.5]; rise: the larger of 0.4 (slope − 4) and 1.5 as the
   // coarse band's shape/noise falls from 4 to 2; gate 1 → 0 over a fine-band shape/noise ratio of
-  // 0.2–0.35; level: noise / 0.25 mean edge lengths, at most 1.
+  // 0.2–0.35; level: 0 → 1 as the noise rises from 0.08 to 0.25 mean edge lengths.
   const BandShrinkParams p;
   auto alpha = [&](double slope, double fine_snr, double noise_edges, double coarse_snr = 10) {
     return alphaFromSpectrum(slope, coarse_snr, fine_snr, noise_edges, p);
@@ -141,7 +141,9 @@ TEST(BandShrink, AlphaRisesWithTheSpectrumSlopeUnlessTheFineBandHoldsShape) {
   EXPECT_EQ(alpha(2.8, 0.0, 0.3), 1.0);           // armadillo-like: shallow spectrum
   EXPECT_DOUBLE_EQ(alpha(6.5, 0.1, 0.3), 2.0);    // lion-head-like
   EXPECT_DOUBLE_EQ(alpha(6.5, 0.275, 0.3), 1.5);  // half gated
-  EXPECT_DOUBLE_EQ(alpha(6.5, 0.1, 0.125), 1.5);  // half the noise level
+  EXPECT_DOUBLE_EQ(alpha(6.5, 0.1, 0.165), 1.5);  // half the noise level
+  EXPECT_EQ(alpha(6.5, 0.1, 0.08), 1.0);          // light noise: the estimate is no evidence
+  EXPECT_EQ(alpha(1e6, 0.0, 0.05), 1.0);
   EXPECT_EQ(alpha(6.5, 0.4, 0.3), 1.0);           // fine band full of shape
   EXPECT_EQ(alpha(1e6, 0.0, 0.3), 2.5);           // no fine shape at all: capped
   EXPECT_EQ(alpha(3.1, 0.0, 0.3, 0.8), 2.5);      // sphere-like: no shape in the coarse band either
