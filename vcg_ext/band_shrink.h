@@ -58,21 +58,22 @@ struct BandShrinkParams {
   // the shape energy of band `slope_coarse_band` over band `slope_fine_band` and smooth goes from
   // 1 to 0 as that coarse band's shape/noise ratio rises from coarse_snr_smooth to
   // coarse_snr_detailed. gate: 1 at a fine-band shape/noise ratio up to gate_snr_full, 0 from
-  // gate_snr_none (linear in between). level: the noise estimate over noise_for_full_alpha mean
-  // edge lengths, at most 1... θ 1.80 % above the best α of a grid on average, the earlier threshold
-  // on the fine band alone 4.41 %, the best fixed α (1.5) 4.39 % (bench/ALPHA_CHOICE.md).
+  // gate_snr_none (linear in between). level: 0 up to a noise estimate of noise_for_any_alpha mean
+  // edge lengths, 1 from noise_for_full_alpha, linear in between. θ 1.57 % above the best α of a
+  // grid on average, the earlier threshold on the fine band alone 4.11 %, the best fixed α (1.5)
+  // 3.70 % (bench/ALPHA_CHOICE.md).
   int fine_band = 3;              // band whose shape/noise ratio gates α (4–8 pairs)
   int slope_fine_band = 4, slope_coarse_band = 7; // 8–16 and 64–128 pairs
   double slope_at_alpha_one = 4.0, alpha_per_slope = 0.4, max_alpha = 2.5;
   double gate_snr_full = 0.20, gate_snr_none = 0.35;
   double coarse_snr_smooth = 2.0, coarse_snr_detailed = 4.0;
   double noise_for_full_alpha = 0.25;
-  // ...and 0 up to noise_for_any_alpha, linear in between: the estimate reads 0.05-0.1 mean edge
-  // lengths on clean curved meshes too (curvature, see estimateNormalNoiseSigma), so at light
-  // noise it is no evidence for over-subtraction. 0.08: the camel with noise 0.05 / 0.1 in random
-  // directions wanted α = 1 and got 1.77 / 2.47 (θ above Taubin ×10's); on 36 light-noise cases
-  // of 18 other meshes θ ≤ Taubin ×10 on 29 instead of 25, and the 81 cases of
-  // bench/ALPHA_CHOICE.md keep their mean regret (1.88 -> 1.91 %). bench/SCANNER_NOISE.md.
+  // The floor: the estimate reads 0.05-0.1 mean edge lengths on clean curved meshes too
+  // (curvature, see estimateNormalNoiseSigma), so at light noise it is no evidence for
+  // over-subtraction. 0.08: the camel of bench/SCANNER_NOISE.md's light set (0.05 / 0.1 in random
+  // directions) wanted α = 1 and got 1.77 / 2.47, θ above Taubin ×10's. Checked on light noise of
+  // another seed on 18 organic meshes (bench/LIGHT_HOLDOUT.md: θ ≤ Taubin ×10 on 29 of 36, 25
+  // without the floor) and on bench/ALPHA_CHOICE.md's 81 cases at 0.1-0.3.
   double noise_for_any_alpha = 0.08;
   double fixed_alpha = 0; // > 0: this α instead (for measuring the choice: bench/alpha_choice.py)
   // The patch update's step (organic_smooth.h) grows with α: 0 at α = 1, whole at this α.
@@ -298,8 +299,9 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   taubin.smooth({&coarse}, {&probe}, edges[0], lambda, mu);
   if (normal_at == 0) take_normals();
   for (int b = 0; b < bands; ++b) {
-    // Long bands as a Chebyshev series of their pairs (taubin_chebyshev.h): the two coarsest
-    // bands' 192 steps in 67 operator applications, within 1e-10 of the field's extent.
+    // Long bands as a Chebyshev series of their pairs (taubin_chebyshev.h): the three coarsest
+    // bands' 224 steps in 64 operator applications, within chebyshev_tolerance of the field's
+    // extent.
     const int pairs = edges[b + 1] - edges[b];
     const std::vector<double> series =
         params.chebyshev
