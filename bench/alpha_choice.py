@@ -61,14 +61,19 @@ def measure(build, case, tmp):
     return {"case": name, "reading": rows[0], "chosen": thetas.pop(0), "thetas": thetas}
 
 
-def cases(build, tmp):
-    noise = lambda src, out, level, direction, seed: run(
-        [build / "tools" / "add_noise", src, out, level, direction, seed]) and out
+def organic_sources(folder):
+    """Extracts the ORGANIC meshes from libcgal-demo's data into `folder`; returns name -> path."""
     with tarfile.open(CGAL_DATA) as tar:
         members = [m for m in tar.getmembers()
                    if any(m.name.endswith(f"meshes/{n}.off") for n in ORGANIC)]
-        tar.extractall(tmp, members=members)
-    source = lambda n: next(tmp.rglob(f"{n}.off"))
+        tar.extractall(folder, members=members)
+    return lambda n: next(pathlib.Path(folder).rglob(f"{n}.off"))
+
+
+def cases(build, tmp):
+    noise = lambda src, out, level, direction, seed: run(
+        [build / "tools" / "add_noise", src, out, level, direction, seed]) and out
+    source = organic_sources(tmp)
     for n in ORGANIC:
         clean = noise(source(n), tmp / f"{n}_clean.ply", 0, "random", 1)
         for level in (0.2, 0.25, 0.3):
