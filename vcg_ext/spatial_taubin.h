@@ -20,6 +20,9 @@
 #include <array>
 #include <cstdint>
 #include <vector>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 namespace vcg_ext {
 
@@ -215,10 +218,26 @@ private:
       mean_b = 0.5f * (b[begin[0]] + b[begin[1]]);
     } else {
       Vec3 sum_a = Vec3::Zero();
+#ifdef __SSE2__
+      // The float sums in the lanes of one register: lane by lane the same additions and
+      // division as Eigen's three scalar ones (the same bits), one division instead of three.
+      __m128 sum_b = _mm_setzero_ps();
+      for (const int *w = begin; w != end; ++w) {
+        sum_a += a[*w];
+        const float *q = b[*w].data();
+        const __m128 xy = _mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double *>(q)));
+        sum_b = _mm_add_ps(sum_b, _mm_movelh_ps(xy, _mm_load_ss(q + 2)));
+      }
+      mean_a = sum_a / double(end - begin);
+      alignas(16) float mean[4];
+      _mm_store_ps(mean, _mm_div_ps(sum_b, _mm_set1_ps(float(end - begin))));
+      mean_b = Vec3f(mean[0], mean[1], mean[2]);
+#else
       Vec3f sum_b = Vec3f::Zero();
       for (const int *w = begin; w != end; ++w) sum_a += a[*w], sum_b += b[*w];
       mean_a = sum_a / double(end - begin);
       mean_b = sum_b / float(end - begin);
+#endif
     }
   }
   // One smooth() step at l: the arithmetic of taubinSmooth, operation for operation.

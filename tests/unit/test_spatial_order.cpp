@@ -7,6 +7,7 @@
 #include <vcg_ext/normal_filter.h>
 #include <vcg_ext/paper_smooth.h>
 #include <vcg_ext/spatial_taubin.h>
+#include <vcg_ext/taubin_chebyshev.h>
 
 #include <omp.h>
 #include <random>
@@ -66,6 +67,48 @@ TEST(SpatialTaubin, SameBitsAsTaubinSmoothWithBoundariesAndFixedVertices) {
     if (fixed[v]) EXPECT_EQ(got_points[v], m.points[v]);
   }
   EXPECT_GT(moved, n / 2);
+}
+
+// The band shrinkage's case: a double field and a float field in one sweep over the graph (their
+// neighbour sums share the reads; the float sums run in the lanes of one register) give, to the
+// bit, what each gives alone, for the steps and for the Chebyshev series.
+TEST(SpatialTaubin, DoubleAndFloatFieldsTogetherGiveTheBitsOfEachAlone) {
+  const MeshArrays m = scatteredCylinder();
+  const int n = int(m.points.size());
+  const Rings rings = computeRings(n, m.faces);
+  const detail::VertexRoles roles =
+      detail::vertexRoles(m, rings, edgeStatistics(m.points, rings).mean_edge_length);
+  std::vector<std::uint8_t> fixed(n, 0);
+  for (int v = 0; v < n; v += 13) fixed[v] = 1;
+  const SpatialTaubin taubin(m.points, rings, fixed, roles.boundary_neighbours);
+  std::vector<Vec3f> probe(n);
+  for (int v = 0; v < n; ++v)
+    probe[v] = Vec3f(float(std::sin(0.7 * v)), float(std::cos(1.3 * v)), float(v % 5) - 2.0f);
+  probe = [&] { // to local order, as the band shrinkage keeps it
+    std::vector<Vec3f> local(n);
+    for (int v = 0; v < n; ++v) local[taubin.local(v)] = probe[v];
+    return local;
+  }();
+  const std::vector<Vec3> points = taubin.toLocal(m.points);
+
+  std::vector<Vec3> together = points, alone = points;
+  std::vector<Vec3f> probe_together = probe, probe_alone = probe;
+  taubin.smooth({&together}, {&probe_together}, 4, 0.5, -0.51);
+  taubin.smooth({&alone}, 4, 0.5, -0.51);
+  taubin.smooth({}, {&probe_alone}, 4, 0.5, -0.51);
+  EXPECT_EQ(together, alone);
+  EXPECT_EQ(probe_together, probe_alone);
+  EXPECT_NE(probe_alone, probe); // the float field did move
+
+  const std::vector<double> c = taubinChebyshevCoefficients(24, 0.5, -0.51, 1e-10);
+  std::vector<Vec3> series_together, series_alone;
+  std::vector<Vec3f> probe_series_together, probe_series_alone;
+  taubin.applyChebyshev({&points}, {&series_together}, {&probe}, {&probe_series_together}, c);
+  taubin.applyChebyshev({&points}, {&series_alone}, c);
+  taubin.applyChebyshev({}, {}, {&probe}, {&probe_series_alone}, c);
+  EXPECT_EQ(series_together, series_alone);
+  EXPECT_EQ(probe_series_together, probe_series_alone);
+  EXPECT_NE(probe_series_alone, probe);
 }
 
 TEST(SpatialTaubin, RenumberingBringsNeighboursTogether) {
