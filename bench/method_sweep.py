@@ -3,7 +3,8 @@
 sets the scanner-noise work is judged on, fast and in-process, for choosing and checking those parameters
 (bench/SCANNER_METHOD.md). The filter's own defaults are what auto_params runs with no parameters.
 
-    python3 bench/method_sweep.py [--build build] [--sets scanner,light,public,real,clean,modechoice]
+    python3 bench/method_sweep.py [--build build]
+                                  [--sets scanner,light,public,real,clean,modechoice,holdout]
                                   [--peers bench/out/scanner/raw.json] [--base TAG] [--tag TAG]
                                   [name=value ...]
 
@@ -13,6 +14,11 @@ sets the scanner-noise work is judged on, fast and in-process, for choosing and 
   and median dihedral spread, bench/noref.py); clean: clean meshes (θ against themselves);
   modechoice: bench/mode_choice.py's 151 noisy meshes (feature, organic and automatic mode: the
   automatic choice's regret), made by `python3 bench/mode_choice.py --work bench/out/sweep/mc` once.
+- holdout: meshes and noise the automatic mode's rules were not fitted on, for checking a rule
+  before it is kept: bench/scanner_holdout.py's twelve scanner-noise cases (group
+  holdout-scanner), bench/light_holdout.py's 36 light-noise cases (holdout-light) and
+  bench/alpha_choice.py's 81 white-noise cases at 0.1-0.3 (holdout-white); summarised per group,
+  against --base when given (the cases that moved by more than 1 %).
 - --peers: a bench/scanner_bench.py raw.json whose peer scores (MeshLab's filters, the SD filter,
   Taubin ×10) the rows are compared with (peers do not depend on our build).
 - --base TAG: compare the modechoice θ with an earlier run's (bench/out/sweep/TAG.json).
@@ -32,6 +38,8 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import meshio  # noqa: E402
 import noref  # noqa: E402
 import scanner_noise  # noqa: E402
+
+HOLDOUT_GROUPS = ("holdout-scanner", "holdout-light", "holdout-white")
 
 REPO = pathlib.Path(__file__).resolve().parents[1]
 SHARED = REPO.parent / "shared" / "data"
@@ -73,6 +81,21 @@ def cases(sets, build):
                   for c in ("cow", "fandisk", "mountain_clean")]
         paths += [(f"cgal {c}", scanner_noise.clean_mesh("cgal", c, made)[0]) for c in CLEAN_CGAL]
         out += [dict(name=f"{n} (clean)", noisy=p, clean=p, group="clean") for n, p in paths]
+    if "holdout" in sets:
+        import alpha_choice, bench, light_holdout, scanner_holdout  # noqa: E401 (their data only)
+        for c in scanner_holdout.make_cases(made / "holdout_scanner", False):
+            out.append(dict(name=f"holdout {c['name']}", noisy=c["noisy"], clean=c["clean"],
+                            group="holdout-scanner"))
+        light = made / "holdout_light"
+        light.mkdir(parents=True, exist_ok=True)
+        for c in light_holdout.make_meshes(bench.Runner(build, light), light):
+            out.append(dict(name=f"holdout {c['name']}", noisy=c["noisy"], clean=c["clean"],
+                            group="holdout-light"))
+        white = made / "holdout_white"
+        white.mkdir(parents=True, exist_ok=True)
+        for name, noisy, clean in alpha_choice.cases(build, white):
+            out.append(dict(name=f"holdout {name}", noisy=noisy, clean=clean,
+                            group="holdout-white"))
     if "modechoice" in sets:
         mc = OUT / "mc"
         if not mc.exists():
@@ -130,6 +153,26 @@ def peer_cells(raw, case):
             ("scanner", ml_t, ml_e, sd_t, sd_e))
 
 
+def holdout_summary(results, base_tag):
+    """Per held-out group: mean θ, and against the base run the cases that moved by > 1 %."""
+    base = json.loads((OUT / f"{base_tag}.json").read_text()) if base_tag else {}
+    for group in HOLDOUT_GROUPS:
+        rows = {n: r["auto"] for n, r in results.items() if r["group"] == group}
+        if not rows:
+            continue
+        line = f"- {group}: {len(rows)} cases, mean θ {np.mean([r['theta_deg'] for r in rows.values()]):.3f}"
+        pairs = [(n, base[n]["auto"], r) for n, r in rows.items() if n in base]
+        if pairs:
+            ratio = [r["theta_deg"] / b["theta_deg"] for _, b, r in pairs]
+            line += (f"; against {base_tag}: mean ratio {np.mean(ratio):.4f}, better > 1 %: "
+                     f"{sum(x < 0.99 for x in ratio)}, worse > 1 %: {sum(x > 1.01 for x in ratio)}")
+        print(line)
+        for n, b, r in pairs:
+            if abs(r["theta_deg"] / b["theta_deg"] - 1) > 0.01:
+                print(f"    {n[len('holdout '):]}: {b['mode_ran']} {b['theta_deg']:.2f} -> "
+                      f"{r['mode_ran']} {r['theta_deg']:.2f}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--build", default=str(REPO / "build"))
@@ -149,7 +192,7 @@ def main():
     with ThreadPoolExecutor(a.jobs) as ex:
         for case, s in ex.map(lambda c: measure(build, c, a.args, a.tag), todo):
             results[case["name"]] = {"group": case["group"], **s}
-            if case["group"] == "modechoice":
+            if case["group"] == "modechoice" or case["group"] in HOLDOUT_GROUPS:
                 continue
             x = s["auto"]
             if case["group"] == "real":
@@ -176,6 +219,7 @@ def main():
     for k, (w, n) in wins.items():
         if n:
             print(f"- {k}: {w} of {n}")
+    holdout_summary(results, a.base)
     mc = {n: r for n, r in results.items() if r["group"] == "modechoice"}
     if mc:
         def regret(r):
