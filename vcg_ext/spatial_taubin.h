@@ -225,7 +225,8 @@ private:
       for (const int *w = begin; w != end; ++w) {
         sum_a += a[*w];
         const float *q = b[*w].data();
-        const __m128 xy = _mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double *>(q)));
+        // (x, y) by one unaligned 64-bit load (of a type that may alias floats), z by a float load.
+        const __m128 xy = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i *>(q)));
         sum_b = _mm_add_ps(sum_b, _mm_movelh_ps(xy, _mm_load_ss(q + 2)));
       }
       mean_a = sum_a / double(end - begin);
