@@ -24,6 +24,15 @@ MeshArrays scatteredCylinder() {
   return test_meshes::permuted(m, test_meshes::shuffledPermutation(int(m.points.size()), 3));
 }
 
+// The scattered cylinder with its rings and boundary curves: what a SpatialTaubin is built from.
+struct CylinderGraph {
+  MeshArrays m = scatteredCylinder();
+  int n = int(m.points.size());
+  Rings rings = computeRings(n, m.faces);
+  detail::VertexRoles roles =
+      detail::vertexRoles(m, rings, edgeStatistics(m.points, rings).mean_edge_length);
+};
+
 double meanIndexDistance(const MeshArrays &m, const std::function<int(int)> &index) {
   double sum = 0;
   for (const Face &f : m.faces)
@@ -34,11 +43,11 @@ double meanIndexDistance(const MeshArrays &m, const std::function<int(int)> &ind
 } // namespace
 
 TEST(SpatialTaubin, SameBitsAsTaubinSmoothWithBoundariesAndFixedVertices) {
-  const MeshArrays m = scatteredCylinder();
-  const int n = int(m.points.size());
-  const Rings rings = computeRings(n, m.faces);
-  const detail::VertexRoles roles =
-      detail::vertexRoles(m, rings, edgeStatistics(m.points, rings).mean_edge_length);
+  const CylinderGraph g;
+  const MeshArrays &m = g.m;
+  const int n = g.n;
+  const Rings &rings = g.rings;
+  const detail::VertexRoles &roles = g.roles;
   std::vector<std::uint8_t> fixed(n, 0), fixed_and_boundary(n, 0);
   for (int v = 0; v < n; v += 17) fixed[v] = 1;
   for (int v = 0; v < n; ++v) fixed_and_boundary[v] = fixed[v] || rings.boundary[v];
@@ -73,23 +82,16 @@ TEST(SpatialTaubin, SameBitsAsTaubinSmoothWithBoundariesAndFixedVertices) {
 // neighbour sums share the reads; the float sums run in the lanes of one register) give, to the
 // bit, what each gives alone, for the steps and for the Chebyshev series.
 TEST(SpatialTaubin, DoubleAndFloatFieldsTogetherGiveTheBitsOfEachAlone) {
-  const MeshArrays m = scatteredCylinder();
-  const int n = int(m.points.size());
-  const Rings rings = computeRings(n, m.faces);
-  const detail::VertexRoles roles =
-      detail::vertexRoles(m, rings, edgeStatistics(m.points, rings).mean_edge_length);
+  const CylinderGraph g;
+  const int n = g.n;
   std::vector<std::uint8_t> fixed(n, 0);
   for (int v = 0; v < n; v += 13) fixed[v] = 1;
-  const SpatialTaubin taubin(m.points, rings, fixed, roles.boundary_neighbours);
+  const SpatialTaubin taubin(g.m.points, g.rings, fixed, g.roles.boundary_neighbours);
+  // A float field in local order, as the band shrinkage makes its probe.
   std::vector<Vec3f> probe(n);
-  for (int v = 0; v < n; ++v)
-    probe[v] = Vec3f(float(std::sin(0.7 * v)), float(std::cos(1.3 * v)), float(v % 5) - 2.0f);
-  probe = [&] { // to local order, as the band shrinkage keeps it
-    std::vector<Vec3f> local(n);
-    for (int v = 0; v < n; ++v) local[taubin.local(v)] = probe[v];
-    return local;
-  }();
-  const std::vector<Vec3> points = taubin.toLocal(m.points);
+  for (int l = 0; l < n; ++l)
+    probe[l] = Vec3f(float(std::sin(0.7 * l)), float(std::cos(1.3 * l)), float(l % 5) - 2.0f);
+  const std::vector<Vec3> points = taubin.toLocal(g.m.points);
 
   std::vector<Vec3> together = points, alone = points;
   std::vector<Vec3f> probe_together = probe, probe_alone = probe;
