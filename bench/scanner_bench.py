@@ -20,6 +20,7 @@ on light noise in random directions; writes the results into bench/SCANNER_NOISE
 --quick: Fandisk and the cow only, the SD filter at its defaults only, no light noise, no
 pictures (a few minutes; for checking the harness, not for the tables).
 Runs against whatever plugin DIR holds (default build/), so it can be rerun on another build.
+Installs what it needs and builds DIR first (bench/prepare.sh; --no-prepare skips it).
 """
 import argparse
 import json
@@ -28,14 +29,13 @@ import pathlib
 import resource
 import signal
 import statistics
+import subprocess
 import sys
 import time
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import bench  # noqa: E402
-import figures  # noqa: E402
 import meshio  # noqa: E402
-import render  # noqa: E402
 import scanner_noise  # noqa: E402
 import sd_filter  # noqa: E402
 from bench import PEERS, PEER_DEFAULT, PEER_SWEEP, SD, fmt, finite, peer_setting_text  # noqa: E402
@@ -273,6 +273,8 @@ def light_table(cases, results):
 
 
 def pictures(cases, results, img_dir):
+    import figures  # matplotlib: installed by bench/prepare.sh
+    import render
     made = []
     by_name = {c["name"]: c for c in cases}
     for name, az, el, up in PICTURES:
@@ -314,7 +316,12 @@ def main():
     ap.add_argument("--times-only", action="store_true",
                     help="rerun the timing pass only (e.g. on a quieter machine), keep the last "
                          "run's scores from raw.json, rewrite the report")
+    ap.add_argument("--no-prepare", action="store_true",
+                    help="skip bench/prepare.sh (packages and build already there)")
     args = ap.parse_args()
+    if not args.no_prepare:
+        # The SD filter, GNU time, MeshLab and matplotlib, and the build, before the first run.
+        subprocess.run(["bash", str(REPO / "bench" / "prepare.sh"), args.build], check=True)
     started = time.time()
     work = REPO / "bench" / "out" / ("scanner_quick" if args.quick else "scanner")
     out = pathlib.Path(args.out or (work / "SCANNER_NOISE.md" if args.quick

@@ -48,6 +48,7 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   real("f.sigma_r", f.normals.sigma_r);
   integer("f.normal_iterations", f.normals.iterations);
   integer("f.guidance_every", f.normals.guidance_every);
+  integer("f.check_iterations", f.check_iterations);
   real("f.area_power", f.normals.area_power);
   integer("f.outer_iterations", f.outer_iterations);
   integer("f.vertex_iterations", f.vertex_iterations);

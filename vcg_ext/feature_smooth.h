@@ -54,6 +54,9 @@ struct FeatureSmoothParams {
   // reads the creases too. 1: the finest band only.
   int correlated_bands = 3;
   NormalFilterParams normals = featureNormalFilterDefaults();
+  // The first pass's evidence (the automatic choice, planar_extra) is taken after this many normal
+  // filter iterations: the thresholds were fitted there (bench/SCANNER_METHOD.md).
+  int check_iterations = 4;
   int outer_iterations = 2;   // filter normals, then move vertices; repeated
   int vertex_iterations = 6;  // vertex updates per outer pass
   int patch_iterations = 1;   // how many of the last pass's (the last ones) use face patches
@@ -160,9 +163,9 @@ using FilteredNormalsCheck = std::function<bool(
 struct FeaturePassCounts {
   double spread_deg = 0, roughness = 0, amount = 0;
   int prepass_pairs = 0, normal_iterations = 0, vertex_iterations = 0;
-  // The normal filter iterations before the first pass's check: its first guidance period.
+  // The normal filter iterations before the first pass's check (FeatureSmoothParams::check_iterations).
   int checkIterations(const FeatureSmoothParams &params) const {
-    return std::min(normal_iterations, std::max(1, params.normals.guidance_every));
+    return std::min(normal_iterations, std::max(1, params.check_iterations));
   }
 };
 
@@ -270,26 +273,21 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
     std::vector<Vec3>().swap(vertex_normals);
     // The filter starts from the face normals and works in place.
     computeFaceNormals(current, mesh.faces, filtered);
-    // The first-pass check sees the normals after the first guidance period; the filter then
-    // goes on from there (guidance is recomputed every `guidance_every` iterations from the
-    // current normals and the spatial weights depend on the unchanged geometry, so the split
-    // gives the same normals as one call).
+    // The first-pass check sees the normals after `check_iterations`, before any vertex moves;
+    // the filter then goes on from there in the same guidance period (a checkpoint of the filter).
     const bool scale_by_flatness = params.planar_extra > 0;
     const int check_iterations =
         pass == 0 && (first_pass_check || scale_by_flatness) ? counts.checkIterations(params) : 0;
-    if (check_iterations > 0) {
-      NormalFilterParams first = normal_filter;
-      first.iterations = check_iterations;
-      filterNormalsInPlace(current, mesh.faces, face_rings, first, edge, filtered);
-      if (first_pass_check &&
-          !first_pass_check(filtered, current, report.prepass_pairs, setup)) {
-        report.seconds_normals += seconds(t);
-        return report.declined = true, report;
+    bool declined = false;
+    auto check = [&](const std::vector<Vec3> &normals) {
+      if (first_pass_check && !first_pass_check(normals, current, report.prepass_pairs, setup)) {
+        declined = true;
+        return 0;
       }
       if (scale_by_flatness) {
         // Edge by edge, as the planar extra passes were fitted (bench/SCANNER_METHOD.md); on a
         // fine curved mesh this reads high, but the automatic choice sends those to the organic mode.
-        report.flat_share = sharpFeatureEvidence(filtered, filtered, face_rings).flat_share;
+        report.flat_share = sharpFeatureEvidence(normals, normals, face_rings).flat_share;
         const double extra = params.planar_extra *
                              std::clamp((report.flat_share - params.planar_share_from) /
                                             (params.planar_share_full - params.planar_share_from),
@@ -300,11 +298,13 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
         report.normal_iterations = normal_filter.iterations;
         report.vertex_iterations = vertex_iterations;
       }
-      NormalFilterParams rest = normal_filter;
-      rest.iterations = normal_filter.iterations - check_iterations;
-      filterNormalsInPlace(current, mesh.faces, face_rings, rest, edge, filtered);
-    } else {
-      filterNormalsInPlace(current, mesh.faces, face_rings, normal_filter, edge, filtered);
+      return normal_filter.iterations;
+    };
+    filterNormalsInPlace(current, mesh.faces, face_rings, normal_filter, edge, filtered,
+                         check_iterations, check);
+    if (declined) {
+      report.seconds_normals += seconds(t);
+      return report.declined = true, report;
     }
     next.resize(n);
     if (params.tangential > 0) {

@@ -24,6 +24,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -389,6 +390,12 @@ struct NormalFilterParams {
   double area_power = 1.0; // weight area^p: 1 as in the papers, 0 on irregular meshes
 };
 
+// Called once by the filter after its first `checkpoint_at` iterations with the normals so far
+// (unit, one per face); returns the number of iterations the filter runs in all (the guidance
+// period goes on where the checkpoint fell, so a checkpoint does not change the normals; a count
+// not above `checkpoint_at` stops the filter there).
+using NormalFilterCheckpoint = std::function<int(const std::vector<Vec3> &normals)>;
+
 namespace detail {
 
 using Normal3f = Eigen::Vector3f;
@@ -427,31 +434,52 @@ inline float largestSquaredDistance(const float *xs, const float *ys, const floa
   return largest2;
 }
 
-// Where `value` is in `values` (length a multiple of 4, 16-byte aligned), or −1: four compares at a
-// time without branches on the data (a binary search's branches mispredicted on most steps).
-inline int indexIn(const int *values, int length, int value) {
+// Whether `value` is in `values` (length a multiple of 4, 16-byte aligned): four compares at a
+// time, no branch on the data (the searches' branches mispredicted on most steps).
+inline bool contains(const int *values, int length, int value) {
 #ifdef __SSE2__
   const __m128i wanted = _mm_set1_epi32(value);
-  for (int k = 0; k < length; k += 4) {
-    const int mask = _mm_movemask_ps(_mm_castsi128_ps(
-        _mm_cmpeq_epi32(_mm_load_si128(reinterpret_cast<const __m128i *>(values + k)), wanted)));
-    if (mask) return k + __builtin_ctz(unsigned(mask));
-  }
-  return -1;
+  __m128i any = _mm_setzero_si128();
+  for (int k = 0; k < length; k += 4)
+    any = _mm_or_si128(any, _mm_cmpeq_epi32(
+                                _mm_load_si128(reinterpret_cast<const __m128i *>(values + k)), wanted));
+  return _mm_movemask_epi8(any) != 0;
 #else
-  for (int k = 0; k < length; ++k)
-    if (values[k] == value) return k;
-  return -1;
+  bool found = false;
+  for (int k = 0; k < length; ++k) found |= values[k] == value;
+  return found;
 #endif
+}
+
+// Per face, the normal jump |n_f − n_g| across each edge to a higher-numbered neighbour g (0 for
+// the others), in single precision: patchConsistency's inner edges, once per edge rather than once
+// per patch that holds the edge (about six).
+using EdgeJumps = std::vector<std::array<float, 3>>;
+inline void normalJumps(const FaceRings &face_rings, const std::vector<Normal3f> &normals,
+                        EdgeJumps &jumps) {
+  const int m = int(normals.size());
+  jumps.resize(m);
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
+  for (int f = 0; f < m; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int g = face_rings.edge_neighbours[f][k];
+      float d = 0;
+      if (g > f) {
+        const float dx = normals[f].x() - normals[g].x(), dy = normals[f].y() - normals[g].y(),
+                    dz = normals[f].z() - normals[g].z();
+        d = std::sqrt((dx * dx + dy * dy) + dz * dz);
+      }
+      jumps[f][k] = d;
+    }
 }
 
 // GNF's patch consistency H = D·R of the vertex ring of `f` (smaller: more consistent): D the
 // largest normal difference in the patch, R the largest normal jump across one of its inner edges
-// over the sum of those jumps. Also the patch's area-weighted mean normal, the guidance it offers.
-// On the filter's single-precision normals; the mean is summed in double.
+// over the sum of those jumps (`jumps`: normalJumps). Also the patch's area-weighted mean normal,
+// the guidance it offers. On the filter's single-precision normals; the mean is summed in double.
 inline void patchConsistency(int f, const FaceRings &face_rings, const std::vector<Normal3f> &normals,
-                             const std::vector<float> &area, float &consistency,
-                             Normal3f &mean_normal) {
+                             const std::vector<float> &area, const EdgeJumps &jumps,
+                             float &consistency, Normal3f &mean_normal) {
   // The patch's normals are gathered first (the pair loop reads each a dozen times), as
   // coordinate arrays for the four-wide pair loop.
   constexpr int kOnStack = 32;
@@ -482,15 +510,15 @@ inline void patchConsistency(int f, const FaceRings &face_rings, const std::vect
   }
   for (int i = size; i < padded; ++i) xs[i] = xs[size - 1], ys[i] = ys[size - 1], zs[i] = zs[size - 1];
   const float largest2 = largestSquaredDistance(xs, ys, zs, size, padded);
+  // Inner edges, each once (from its lower face index), in ring order: an edge that is not inner
+  // adds 0, which leaves the sum's bits as they are.
   float largest_jump = 0, jump_sum = 0;
   for (int i = 0; i < size; ++i) {
-    // Inner edges, each once (from its lower face index); the ring is sorted.
-    for (int b : face_rings.edge_neighbours[ring[i]]) {
-      if (b <= ring[i]) continue;
-      const int j = detail::indexIn(members, padded, b);
-      if (j < 0) continue;
-      const float dx = xs[i] - xs[j], dy = ys[i] - ys[j], dz = zs[i] - zs[j];
-      const float d = std::sqrt((dx * dx + dy * dy) + dz * dz);
+    const std::array<int, 3> &neighbours = face_rings.edge_neighbours[ring[i]];
+    const std::array<float, 3> &jump = jumps[ring[i]];
+    for (int k = 0; k < 3; ++k) {
+      // (× 1 or 0: exact, and no branch on the data)
+      const float d = jump[k] * float(contains(members, padded, neighbours[k]));
       largest_jump = d > largest_jump ? d : largest_jump;
       jump_sum += d;
     }
@@ -504,88 +532,135 @@ inline void patchConsistency(int f, const FaceRings &face_rings, const std::vect
 
 namespace detail {
 
+// The guided filter's guidance: each face takes the area-weighted mean normal of the most
+// consistent patch (patchConsistency) that contains it; the lowest face index breaks ties so the
+// choice does not depend on the order of the scan.
+inline void chooseGuidance(const FaceRings &face_rings, const std::vector<Normal3f> &normals,
+                           const std::vector<float> &area, std::vector<Normal3f> &guidance) {
+  const int m = int(normals.size());
+  std::vector<float> consistency(m);
+  std::vector<Normal3f> patch_normal(m);
+  EdgeJumps jumps;
+  normalJumps(face_rings, normals, jumps);
+  AllocationGuard guard; // (a patch of more than 32 faces takes its arrays from the heap)
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
+  for (int f = 0; f < m; ++f)
+    guard.run([&] {
+      patchConsistency(f, face_rings, normals, area, jumps, consistency[f], patch_normal[f]);
+    });
+  guard.rethrow();
+  guidance.resize(m);
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
+  for (int f = 0; f < m; ++f) {
+    int best = f;
+    for (const int *g = face_rings.begin(f); g != face_rings.end(f); ++g)
+      if (consistency[*g] < consistency[best] ||
+          (consistency[*g] == consistency[best] && *g < best))
+        best = *g;
+    guidance[f] = patch_normal[best];
+  }
+}
+
+// The filter's weight per face-ring entry: spatial Gaussian on the centroids' distance, range
+// kernel on the kernel normals' difference, times the area term.
+template <class CentroidOf>
+void filterWeights(const FaceRings &face_rings, const std::vector<float> &area,
+                   CentroidOf centroid_of, const std::vector<Normal3f> &kernel_normals,
+                   const NormalFilterParams &params, double mean_edge, std::vector<float> &weight) {
+  const int m = int(kernel_normals.size());
+  const double spatial = -0.5 / std::pow(params.sigma_s * mean_edge, 2);
+  const double range = -0.5 / (params.sigma_r * params.sigma_r);
+  weight.resize(face_rings.faces.size());
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
+  for (int f = 0; f < m; ++f) {
+    const Vec3 own = kernel_normals[f].cast<double>(), own_centroid = centroid_of(f);
+    for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k) {
+      const int g = face_rings.faces[k];
+      const double ds = (own_centroid - centroid_of(g)).squaredNorm();
+      const double face_area = params.area_power == 0.0   ? 1.0
+                               : params.area_power == 1.0 ? double(area[g])
+                                                          : std::pow(double(area[g]), params.area_power);
+      const double dr = (own - kernel_normals[g].cast<double>()).squaredNorm();
+      weight[k] = float(face_area * std::exp(spatial * ds) * rangeKernel(range * dr));
+    }
+  }
+}
+
+// One filter iteration: each face's normal becomes the normalised weighted sum of its ring's.
+inline void filterIteration(const FaceRings &face_rings, const std::vector<float> &weight,
+                            const std::vector<Normal3f> &in, std::vector<Normal3f> &out) {
+  const int m = int(in.size());
+  out.resize(m);
+#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
+  for (int f = 0; f < m; ++f) {
+    Vec3 sum = Vec3::Zero();
+    for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k)
+      sum += double(weight[k]) * in[face_rings.faces[k]].cast<double>();
+    const double len = sum.norm();
+    out[f] = len > 0 && std::isfinite(len) ? Normal3f((sum / len).cast<float>()) : in[f];
+  }
+}
+
+inline void toDouble(const std::vector<Normal3f> &in, std::vector<Vec3> &out) {
+  out.resize(in.size());
+  for (size_t f = 0; f < in.size(); ++f) out[f] = in[f].cast<double>();
+}
+
 // The normal filter on `normals` in place (see filterNormalsInPlace): `area` per face, and
 // `centroid_of(f)` the centroid of face f.
 template <class CentroidOf>
 void filterNormalsCore(const FaceRings &face_rings, const std::vector<float> &area,
                        CentroidOf centroid_of, const NormalFilterParams &params, double mean_edge,
-                       std::vector<Vec3> &normals) {
+                       std::vector<Vec3> &normals, int checkpoint_at = 0,
+                       const NormalFilterCheckpoint &checkpoint = nullptr) {
   const int m = int(normals.size());
-  if (params.iterations <= 0 || m == 0) return;
+  int iterations = params.iterations;
+  if (iterations <= 0 || m == 0) return;
   const bool guided = params.kind == NormalFilterKind::Guided;
+  const int every = std::max(1, params.guidance_every);
   std::vector<Normal3f> out(m), next, guidance;
-  std::vector<float> consistency, weight;
+  std::vector<float> weight;
   for (int f = 0; f < m; ++f) out[f] = normals[f].cast<float>();
   std::vector<Vec3>().swap(normals);
-  const double spatial = -0.5 / std::pow(params.sigma_s * mean_edge, 2);
-  const double range = -0.5 / (params.sigma_r * params.sigma_r);
-  for (int it = 0; it < params.iterations; ++it) {
-    const bool guidance_changed = guided && it % std::max(1, params.guidance_every) == 0;
-    if (guidance_changed) {
-      // The previous period's weights are not needed any more. Only what a step needs is held:
-      // the patches' mean normals (in `next`) and consistencies until the guidance is chosen,
-      // the guidance until the weights are made.
-      std::vector<float>().swap(weight);
-      consistency.resize(m);
-      next.resize(m);
-      std::vector<Normal3f> &patch_normal = next;
-      AllocationGuard guard; // (a patch of more than 32 faces takes its arrays from the heap)
-#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
-      for (int f = 0; f < m; ++f)
-        guard.run([&] { patchConsistency(f, face_rings, out, area, consistency[f], patch_normal[f]); });
-      guard.rethrow();
-      // Each face takes the mean normal of the most consistent patch that contains it; the
-      // lowest face index breaks ties so the choice does not depend on the order of the scan.
-      guidance.resize(m);
-#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
-      for (int f = 0; f < m; ++f) {
-        int best = f;
-        for (const int *g = face_rings.begin(f); g != face_rings.end(f); ++g)
-          if (consistency[*g] < consistency[best] ||
-              (consistency[*g] == consistency[best] && *g < best))
-            best = *g;
-        guidance[f] = patch_normal[best];
-      }
-      std::vector<float>().swap(consistency);
-      std::vector<Normal3f>().swap(next);
-    }
+  bool pending = checkpoint && checkpoint_at > 0;
+  for (int it = 0; it < iterations; ++it) {
+    const bool guidance_changed = guided && it % every == 0;
     // The weights change with the kernel normals only: the guided filter's guidance stays for
-    // `guidance_every` iterations, and so do its weights (computed once per guidance period). The
-    // spatial part (the centroids do not move) is recomputed with them rather than kept: one more
-    // exp per entry and period, against another array per face-ring entry held all along.
+    // `guidance_every` iterations, and so do its weights (computed once per period). The spatial
+    // part (the centroids do not move) is recomputed with them rather than kept: one more exp per
+    // entry and period, against another array per face-ring entry held all along.
     if (!guided || guidance_changed) {
-      const std::vector<Normal3f> &kernel_normals = guided ? guidance : out;
-      weight.resize(face_rings.faces.size());
-#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
-      for (int f = 0; f < m; ++f) {
-        const Vec3 own = kernel_normals[f].cast<double>(), own_centroid = centroid_of(f);
-        for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k) {
-          const int g = face_rings.faces[k];
-          const double ds = (own_centroid - centroid_of(g)).squaredNorm();
-          const double face_area = params.area_power == 0.0   ? 1.0
-                                   : params.area_power == 1.0 ? double(area[g])
-                                                              : std::pow(double(area[g]), params.area_power);
-          const double dr = (own - kernel_normals[g].cast<double>()).squaredNorm();
-          weight[k] = float(face_area * std::exp(spatial * ds) * rangeKernel(range * dr));
-        }
-      }
-      if (guided) std::vector<Normal3f>().swap(guidance);
+      std::vector<float>().swap(weight); // the previous period's
+      if (guided) chooseGuidance(face_rings, out, area, guidance);
+      filterWeights(face_rings, area, centroid_of, guided ? guidance : out, params, mean_edge,
+                    weight);
+      // The guidance is kept only when the checkpoint falls inside its period (the weights are
+      // made again from it after the checkpoint).
+      if (!(pending && checkpoint_at <= it + every)) std::vector<Normal3f>().swap(guidance);
     }
-    next.resize(m);
-#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
-    for (int f = 0; f < m; ++f) {
-      Vec3 sum = Vec3::Zero();
-      for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k)
-        sum += double(weight[k]) * out[face_rings.faces[k]].cast<double>();
-      const double len = sum.norm();
-      next[f] = len > 0 && std::isfinite(len) ? Normal3f((sum / len).cast<float>()) : out[f];
-    }
+    filterIteration(face_rings, weight, out, next);
     out.swap(next);
+    if (pending && it + 1 == checkpoint_at) {
+      // The checkpoint sees the normals in double, while the weights (the largest buffer) are
+      // released; the filter then goes on in the same guidance period.
+      pending = false;
+      std::vector<Normal3f>().swap(next);
+      std::vector<float>().swap(weight);
+      toDouble(out, normals);
+      std::vector<Normal3f>().swap(out);
+      iterations = checkpoint(normals);
+      if (iterations <= it + 1) return; // the normals stay as the checkpoint saw them
+      out.resize(m);
+      for (int f = 0; f < m; ++f) out[f] = normals[f].cast<float>(); // (exact: they were floats)
+      std::vector<Vec3>().swap(normals);
+      if (guided ? (it + 1) % every != 0 : false)
+        filterWeights(face_rings, area, centroid_of, guidance, params, mean_edge, weight);
+      std::vector<Normal3f>().swap(guidance);
+    }
   }
   std::vector<Normal3f>().swap(next);
   std::vector<float>().swap(weight);
-  normals.resize(m);
-  for (int f = 0; f < m; ++f) normals[f] = out[f].cast<double>();
+  toDouble(out, normals);
 }
 
 } // namespace detail
@@ -598,10 +673,14 @@ void filterNormalsCore(const FaceRings &face_rings, const std::vector<float> &ar
 // of them the weights (4 bytes per face-ring entry), against 300 with everything in double and
 // kept. A normal's float rounding (6e-8) is far below what the filter resolves. The result is
 // the same for any thread count (every face is written by one thread from the previous
-// iteration's values). `normals`' own buffer is released while the filter runs.
+// iteration's values). `normals`' own buffer is released while the filter runs. `checkpoint`
+// (optional) sees the normals after `checkpoint_at` iterations and may stop the filter there or
+// change its iteration count (NormalFilterCheckpoint).
 inline void filterNormalsInPlace(const std::vector<Vec3> &points, const std::vector<Face> &faces,
                                  const FaceRings &face_rings, const NormalFilterParams &params,
-                                 double mean_edge, std::vector<Vec3> &normals) {
+                                 double mean_edge, std::vector<Vec3> &normals,
+                                 int checkpoint_at = 0,
+                                 const NormalFilterCheckpoint &checkpoint = nullptr) {
   const int m = int(faces.size());
   std::vector<float> area(m);
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
@@ -615,7 +694,7 @@ inline void filterNormalsInPlace(const std::vector<Vec3> &points, const std::vec
       [&](int f) {
         return Vec3((points[faces[f][0]] + points[faces[f][1]] + points[faces[f][2]]) / 3.0);
       },
-      params, mean_edge, normals);
+      params, mean_edge, normals, checkpoint_at, checkpoint);
 }
 
 // Filters `geometry.normal` into `out` (unit normals, one per face).

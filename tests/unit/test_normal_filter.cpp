@@ -239,3 +239,90 @@ TEST(NormalFilter, DihedralSpreadSharesEachEdgesAngleWithTheSameBits) {
   omp_set_num_threads(threads);
   min_parallel_vertices = saved;
 }
+
+namespace {
+
+// GNF's patch consistency straight from its definition (all pairs; each inner edge found by a
+// search of the ring), in the filter's single-precision arithmetic.
+float directConsistency(int f, const FaceRings &r, const std::vector<detail::Normal3f> &n) {
+  float largest2 = 0, largest_jump = 0, jump_sum = 0;
+  for (const int *a = r.begin(f); a != r.end(f); ++a) {
+    for (const int *b = a + 1; b != r.end(f); ++b) {
+      const float dx = n[*a].x() - n[*b].x(), dy = n[*a].y() - n[*b].y(), dz = n[*a].z() - n[*b].z();
+      largest2 = std::max(largest2, (dx * dx + dy * dy) + dz * dz);
+    }
+    for (int b : r.edge_neighbours[*a]) {
+      if (b <= *a || !r.contains(f, b)) continue;
+      const float dx = n[*a].x() - n[b].x(), dy = n[*a].y() - n[b].y(), dz = n[*a].z() - n[b].z();
+      const float d = std::sqrt((dx * dx + dy * dy) + dz * dz);
+      largest_jump = std::max(largest_jump, d);
+      jump_sum += d;
+    }
+  }
+  return std::sqrt(largest2) * largest_jump / (1e-9f + jump_sum);
+}
+
+} // namespace
+
+TEST(NormalFilter, PatchConsistencyIsItsDefinitionBitForBit) {
+  // Noisy sphere plus a roof (a crease, boundary faces): jumps taken once per edge and summed with
+  // zeros for the edges that are not inner must give the definition's bits.
+  for (MeshArrays m : {test_meshes::icosphere(1, 3), roof(15)}) {
+    test_meshes::addNoise(m, 0.04, 5);
+    const FaceRings r = computeFaceRings(m.faces, computeRings(int(m.points.size()), m.faces));
+    FaceGeometry g;
+    computeFaceGeometry(m.points, m.faces, g);
+    std::vector<detail::Normal3f> n(g.normal.size());
+    for (size_t f = 0; f < n.size(); ++f) n[f] = g.normal[f].cast<float>();
+    const std::vector<float> area(g.area.begin(), g.area.end());
+    detail::EdgeJumps jumps;
+    detail::normalJumps(r, n, jumps);
+    int differing = 0, positive = 0;
+    for (int f = 0; f < int(n.size()); ++f) {
+      float consistency;
+      detail::Normal3f mean;
+      detail::patchConsistency(f, r, n, area, jumps, consistency, mean);
+      differing += consistency != directConsistency(f, r, n);
+      positive += consistency > 0;
+    }
+    EXPECT_EQ(differing, 0);
+    EXPECT_EQ(positive, int(n.size())); // (noisy: every patch has some inconsistency)
+  }
+}
+
+TEST(NormalFilter, ACheckpointSeesTheNormalsSoFarAndDoesNotChangeTheResult) {
+  MeshArrays noisy = roof(21);
+  test_meshes::addNoise(noisy, 0.3 * (2.0 / 20), 7);
+  const Rings rings = computeRings(int(noisy.points.size()), noisy.faces);
+  const FaceRings face_rings = computeFaceRings(noisy.faces, rings);
+  const double edge = edgeStatistics(noisy.points, rings).mean_edge_length;
+  NormalFilterParams p;
+  p.iterations = 6;
+  p.guidance_every = 4;
+  auto filtered = [&](int iterations, int at, const NormalFilterCheckpoint &checkpoint) {
+    NormalFilterParams q = p;
+    q.iterations = iterations;
+    std::vector<Vec3> n;
+    computeFaceNormals(noisy.points, noisy.faces, n);
+    filterNormalsInPlace(noisy.points, noisy.faces, face_rings, q, edge, n, at, checkpoint);
+    return n;
+  };
+  const std::vector<Vec3> after2 = filtered(2, 0, nullptr), after6 = filtered(6, 0, nullptr),
+                          after9 = filtered(9, 0, nullptr);
+  ASSERT_NE(after2, after6);
+  // Inside a guidance period (after 2 of its 4 iterations), going on to 6 or to 9 in all.
+  for (int total : {6, 9}) {
+    std::vector<Vec3> seen;
+    const std::vector<Vec3> result = filtered(6, 2, [&](const std::vector<Vec3> &n) {
+      seen = n;
+      return total;
+    });
+    EXPECT_EQ(seen, after2);
+    EXPECT_EQ(result, total == 6 ? after6 : after9);
+  }
+  // At a period's end, and a checkpoint that stops the filter there.
+  std::vector<Vec3> seen;
+  EXPECT_EQ(filtered(6, 4, [&](const std::vector<Vec3> &n) { return seen = n, 6; }), after6);
+  EXPECT_EQ(seen, filtered(4, 0, nullptr));
+  EXPECT_EQ(filtered(6, 2, [](const std::vector<Vec3> &) { return 0; }), after2);
+}
