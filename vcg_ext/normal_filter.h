@@ -634,9 +634,9 @@ void filterNormalsCore(const FaceRings &face_rings, const std::vector<float> &ar
       if (guided) chooseGuidance(face_rings, out, area, guidance);
       filterWeights(face_rings, area, centroid_of, guided ? guidance : out, params, mean_edge,
                     weight);
-      // The guidance is kept only when the checkpoint falls inside its period (the weights are
-      // made again from it after the checkpoint).
-      if (!(pending && checkpoint_at <= it + every)) std::vector<Normal3f>().swap(guidance);
+      // The guidance is kept only when the checkpoint falls inside its period, not at its end
+      // (the weights are made again from it after the checkpoint).
+      if (!(pending && checkpoint_at < it + every)) std::vector<Normal3f>().swap(guidance);
     }
     filterIteration(face_rings, weight, out, next);
     out.swap(next);
@@ -653,7 +653,7 @@ void filterNormalsCore(const FaceRings &face_rings, const std::vector<float> &ar
       out.resize(m);
       for (int f = 0; f < m; ++f) out[f] = normals[f].cast<float>(); // (exact: they were floats)
       std::vector<Vec3>().swap(normals);
-      if (guided ? (it + 1) % every != 0 : false)
+      if (guided && (it + 1) % every != 0) // (inside a period: its weights again)
         filterWeights(face_rings, area, centroid_of, guidance, params, mean_edge, weight);
       std::vector<Normal3f>().swap(guidance);
     }
