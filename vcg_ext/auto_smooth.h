@@ -23,7 +23,8 @@ struct AutoSmoothParams {
   int reference_pairs = 4;
   double crease_deg = 30.0, confirm_deg = 25.0, flat_deg = 1.0;
   // The mesh counts as having sharp features when at least `feature_flat_share` of the edges are
-  // flat after the first guidance period of the normal filter (planar CAD faces), or at least
+  // flat after the first guidance period of the normal filter (FeatureSmoothParams::
+  // check_iterations; planar CAD faces), or at least
   // `feature_confirmed_share` of its creases are confirmed (curved CAD parts such as
   // SharpSphere). Measured on 151 noisy meshes (bench/FEATURE_MODE.md "Automatic mode"): flat
   // share up to 0.205 on meshes where the organic mode wins (the bunny), from 0.262 on CAD parts

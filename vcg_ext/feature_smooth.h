@@ -55,7 +55,8 @@ struct FeatureSmoothParams {
   int correlated_bands = 3;
   NormalFilterParams normals = featureNormalFilterDefaults();
   // The first pass's evidence (the automatic choice, planar_extra) is taken after this many normal
-  // filter iterations: the thresholds were fitted there (bench/SCANNER_METHOD.md).
+  // filter iterations, the first guidance period, where their thresholds were fitted
+  // (bench/FEATURE_MODE.md "Automatic mode", bench/SCANNER_METHOD.md).
   int check_iterations = 4;
   int outer_iterations = 2;   // filter normals, then move vertices; repeated
   int vertex_iterations = 6;  // vertex updates per outer pass

@@ -517,7 +517,7 @@ inline void patchConsistency(int f, const FaceRings &face_rings, const std::vect
     const std::array<int, 3> &neighbours = face_rings.edge_neighbours[ring[i]];
     const std::array<float, 3> &jump = jumps[ring[i]];
     for (int k = 0; k < 3; ++k) {
-      // (× 1 or 0: exact, and no branch on the data)
+      // (× 1 or 0: exact for the finite jumps of unit or zero normals, and no branch on the data)
       const float d = jump[k] * float(contains(members, padded, neighbours[k]));
       largest_jump = d > largest_jump ? d : largest_jump;
       jump_sum += d;
