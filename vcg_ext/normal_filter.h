@@ -535,20 +535,26 @@ namespace detail {
 // The guided filter's guidance: each face takes the area-weighted mean normal of the most
 // consistent patch (patchConsistency) that contains it; the lowest face index breaks ties so the
 // choice does not depend on the order of the scan.
+// `patch_normal`: room for the patches' mean normals (the caller's spare buffer, overwritten). The
+// edge jumps are released before the guidance is allocated, so the peak stays that of the
+// selection (normals, patch normals, consistencies, guidance).
 inline void chooseGuidance(const FaceRings &face_rings, const std::vector<Normal3f> &normals,
-                           const std::vector<float> &area, std::vector<Normal3f> &guidance) {
+                           const std::vector<float> &area, std::vector<Normal3f> &patch_normal,
+                           std::vector<Normal3f> &guidance) {
   const int m = int(normals.size());
   std::vector<float> consistency(m);
-  std::vector<Normal3f> patch_normal(m);
-  EdgeJumps jumps;
-  normalJumps(face_rings, normals, jumps);
-  AllocationGuard guard; // (a patch of more than 32 faces takes its arrays from the heap)
+  patch_normal.resize(m);
+  {
+    EdgeJumps jumps;
+    normalJumps(face_rings, normals, jumps);
+    AllocationGuard guard; // (a patch of more than 32 faces takes its arrays from the heap)
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
-  for (int f = 0; f < m; ++f)
-    guard.run([&] {
-      patchConsistency(f, face_rings, normals, area, jumps, consistency[f], patch_normal[f]);
-    });
-  guard.rethrow();
+    for (int f = 0; f < m; ++f)
+      guard.run([&] {
+        patchConsistency(f, face_rings, normals, area, jumps, consistency[f], patch_normal[f]);
+      });
+    guard.rethrow();
+  }
   guidance.resize(m);
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
   for (int f = 0; f < m; ++f) {
@@ -631,7 +637,12 @@ void filterNormalsCore(const FaceRings &face_rings, const std::vector<float> &ar
     // entry and period, against another array per face-ring entry held all along.
     if (!guided || guidance_changed) {
       std::vector<float>().swap(weight); // the previous period's
-      if (guided) chooseGuidance(face_rings, out, area, guidance);
+      if (guided) {
+        // `next` (the previous iteration's normals, not read again) lends its room to the
+        // patches' mean normals, then goes, so the weights do not stack on it.
+        chooseGuidance(face_rings, out, area, next, guidance);
+        std::vector<Normal3f>().swap(next);
+      }
       filterWeights(face_rings, area, centroid_of, guided ? guidance : out, params, mean_edge,
                     weight);
       // The guidance is kept only when the checkpoint falls inside its period, not at its end
