@@ -76,6 +76,9 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   real("o.rise_white", o.colour.rise_white);
   real("o.rise_coloured", o.colour.rise_coloured);
   integer("o.robust_max_pairs", o.bands.robust_max_pairs);
+  integer("o.local_window_steps", o.bands.local_window_steps);
+  integer("o.local_first_band", o.bands.local_first_band);
+  integer("o.local_last_band", o.bands.local_last_band);
   real("o.level_coloured", o.colour.level_coloured);
   real("o.noise_scale", o.bands.noise_scale);
   real("o.min_noise_edges", o.bands.min_noise_edges);

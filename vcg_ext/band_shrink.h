@@ -4,7 +4,8 @@
 // neighbours (as for taubinSmooth). Output: smoothed positions and a report (noise estimate, the
 // gain of every band). Papers: Taubin 1995 (λ|μ smoothing as a low-pass filter); Wiener shrinkage
 // per band as in wavelet denoising (Donoho & Johnstone 1994, with a spectral over-subtraction
-// factor α as in Berouti et al. 1979).
+// factor α as in Berouti et al. 1979; per vertex on the middle bands as in Mihçak, Kozintsev,
+// Ramchandran & Moulin 1999).
 //
 // Why: with noise in random 3-D directions on organic meshes, Taubin at its best step count beats
 // every range-kernel filter we measured, and that best count differs per mesh (10 pairs for the
@@ -13,7 +14,9 @@
 // to how much of its energy is shape rather than noise. The noise energy of a band is known: the
 // same Taubin steps applied to a random field with the noise's variance (a probe). The noise
 // variance is the robust spread of the normal component of the 1-ring Laplacian. So the amount of
-// smoothing follows from the mesh, not from a step count chosen per case.
+// smoothing follows from the mesh, not from a step count chosen per case. The middle bands (4-64
+// pairs) take their gain per vertex, from the band's energy around it (locally adaptive Wiener
+// shrinkage, BandShrinkParams::local_window_steps): shape gathers in places, noise does not.
 //
 // θ (face normals) wants more smoothing than the position error does when the mesh is smooth at
 // the scale of its edges: α, the over-subtraction, follows the slope of the shape's own spectrum,
@@ -119,6 +122,15 @@ struct BandShrinkParams {
   // its gain was small (three_peaks, 1.9k vertices, 132 probes: 7.71 -> 7.23°, Taubin 6.92°).
   double fine_band_probe_vertices = 250000;
   int max_fine_band_probes = 9;
+  // Local gains (Mihçak, Kozintsev, Ramchandran & Moulin 1999, locally adaptive Wiener shrinkage
+  // of wavelet coefficients): on bands local_first_band..local_last_band (at most four) each
+  // vertex's gain compares the noise energy with the band's energy near the vertex, its squared
+  // normal component averaged over the vertex and its 1-ring local_window_steps times, instead
+  // of with the band's mean: shape that gathers in some places (a face, a crease) is kept there
+  // and the noise elsewhere goes. Measured on white, light and scanner noise
+  // (bench/SCANNER_METHOD.md). local_window_steps 0: one gain per band.
+  int local_window_steps = 16;
+  int local_first_band = 3, local_last_band = 6; // 4-8 to 32-64 pairs
 };
 
 struct BandShrinkReport {
@@ -130,7 +142,7 @@ struct BandShrinkReport {
   double alpha = 0;
   int fine_band_probes = 0;  // probes that measured the fine band's noise
   double detail = 0;         // 0 (smooth at the edge scale) .. 1 (detailed: α = 1, no patch step)
-  std::vector<double> gains; // per band, finest first
+  std::vector<double> gains; // per band, finest first (local bands: the mean of the vertices')
   bool cancelled = false;
 };
 
@@ -210,6 +222,60 @@ inline double estimateNormalNoiseSigma(const std::vector<Vec3> &points, const Ri
   inflation /= double(residual.size());
   return detail::kthSmallest(residual, residual.size() / 2) / 0.6745 / std::sqrt(inflation);
 }
+
+namespace detail {
+// The local bands' gains per vertex (local order; other bands empty), and their means into
+// `gains` (BandShrinkParams::local_window_steps). The (at most four) bands' energies diffuse in
+// one field, one sweep of the rings per step. `noise_energy` holds each band's probe energy
+// summed over the `count` counted vertices (per component).
+inline std::vector<std::vector<float>>
+localBandGains(const SpatialTaubin &taubin, const Rings &rings,
+               const std::vector<std::vector<Eigen::Vector3f>> &band,
+               const std::vector<Vec3> &normals, const std::vector<std::uint8_t> &counted,
+               const std::vector<double> &noise_energy, long count, double alpha,
+               const BandShrinkParams &params, std::vector<double> &gains) {
+  using Vec4f = Eigen::Vector4f;
+  const int bands = int(band.size()), n = int(normals.size());
+  std::vector<std::vector<float>> local(bands);
+  const int first = std::max(0, params.local_first_band),
+            last = std::min({bands - 1, params.local_last_band, first + 3});
+  if (params.local_window_steps <= 0 || first > last || count == 0) return local;
+  std::vector<Vec4f> energy(n, Vec4f::Zero()), next(n);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+  for (int v = 0; v < n; ++v) {
+    const int l = taubin.local(v);
+    for (int b = first; b <= last; ++b) {
+      const double along = band[b][l].cast<double>().dot(normals[v]);
+      energy[v][b - first] = float(along * along);
+    }
+  }
+  // The mean over each vertex and its 1-ring, boundary vertices included (their whole ring: a
+  // boundary curve alone would keep its drift's energy and hold the noise near holes).
+  for (int step = 0; step < params.local_window_steps; ++step) {
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+    for (int v = 0; v < n; ++v) {
+      Vec4f sum = energy[v];
+      for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) sum += energy[*w];
+      next[v] = sum / float(1 + rings.ring1Size(v));
+    }
+    energy.swap(next);
+  }
+  for (int b = first; b <= last; ++b) {
+    const double colour = b < int(params.noise_colour.size()) ? params.noise_colour[b] : 1.0;
+    const double noise = alpha * colour * noise_energy[b] / double(count);
+    local[b].resize(n);
+    double sum = 0;
+    for (int v = 0; v < n; ++v) {
+      const double near = energy[v][b - first];
+      const float gain = near > 0 ? float(std::clamp(1.0 - noise / near, 0.0, 1.0)) : 1.0f;
+      local[b][taubin.local(v)] = gain;
+      if (counted[v]) sum += gain;
+    }
+    gains[b] = sum / double(count);
+  }
+  return local;
+}
+} // namespace detail
 
 // Smooths `points` in place (see the file comment). `progress(fraction)` may return false to
 // cancel; `points` are then left as they were.
@@ -404,12 +470,18 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
     report.gains[b] =
         total > 0 ? std::clamp(1.0 - report.alpha * colour * noise / total, 0.0, 1.0) : 1.0;
   }
+  std::vector<Vec3f>().swap(probe);
+  std::vector<Vec3f>().swap(probe_previous);
+  const std::vector<std::vector<float>> local =
+      detail::localBandGains(taubin, rings, band, normals, counted, noise_energy, count, report.alpha,
+                             params, report.gains);
   // Coarse base plus every band times its gain.
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
   for (int v = 0; v < n; ++v) {
     const int l = taubin.local(v);
     Vec3 p = coarse[l];
-    for (int b = 0; b < bands; ++b) p += report.gains[b] * band[b][l].cast<double>();
+    for (int b = 0; b < bands; ++b)
+      p += (local[b].empty() ? report.gains[b] : double(local[b][l])) * band[b][l].cast<double>();
     if (p.allFinite()) points[v] = p;
   }
   return report;

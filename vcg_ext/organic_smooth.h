@@ -221,7 +221,7 @@ inline std::vector<std::string> organicDetails(const OrganicSmoothReport &r) {
   if (r.amount > 0) {
     std::string gains = formatLine("Shape spectrum slope %.2f, coarse-band shape/noise %.2f, "
                                    "fine-band shape/noise %.2f: alpha %.2f; band gains (fine to "
-                                   "coarse):",
+                                   "coarse; 4-64 pairs: the mean of the vertices' local gains):",
                                    r.bands.shape_slope, r.bands.coarse_snr, r.bands.fine_snr,
                                    r.bands.alpha);
     for (double g : r.bands.gains) gains += formatLine(" %.2f", g);
