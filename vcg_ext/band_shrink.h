@@ -76,7 +76,8 @@ struct BandShrinkParams {
   // over-subtraction. 0.08: the camel of bench/SCANNER_NOISE.md's light set (0.05 / 0.1 in random
   // directions) wanted α = 1 and got 1.77 / 2.47, θ above Taubin ×10's. Checked on light noise of
   // another seed on 18 organic meshes (bench/LIGHT_HOLDOUT.md: θ ≤ Taubin ×10 on 29 of 36, 25
-  // without the floor) and on bench/ALPHA_CHOICE.md's 81 cases at 0.1-0.3.
+  // without the floor, with one gain per band; 33 and 31 with the local gains) and on
+  // bench/ALPHA_CHOICE.md's 81 cases at 0.1-0.3.
   double noise_for_any_alpha = 0.08;
   double fixed_alpha = 0; // > 0: this α instead (for measuring the choice: bench/alpha_choice.py)
   // The patch update's step (organic_smooth.h) grows with α: 0 at α = 1, whole at this α.
