@@ -225,6 +225,15 @@ inline double estimateNormalNoiseSigma(const std::vector<Vec3> &points, const Ri
 }
 
 namespace detail {
+// The noise's colour of band b (1: white; BandShrinkParams::noise_colour).
+inline double bandColour(const BandShrinkParams &params, int b) {
+  return b < int(params.noise_colour.size()) ? params.noise_colour[b] : 1.0;
+}
+// Wiener shrinkage: the share of `energy` beyond `noise` (1 where there is no energy).
+inline double wienerGain(double noise, double energy) {
+  return energy > 0 ? std::clamp(1.0 - noise / energy, 0.0, 1.0) : 1.0;
+}
+
 // The local bands' gains per vertex (local order; other bands empty), and their means into
 // `gains` (BandShrinkParams::local_window_steps). The (at most four) bands' energies diffuse in
 // one field, one sweep of the rings per step. `noise_energy` holds each band's probe energy
@@ -262,13 +271,11 @@ localBandGains(const SpatialTaubin &taubin, const Rings &rings,
     energy.swap(next);
   }
   for (int b = first; b <= last; ++b) {
-    const double colour = b < int(params.noise_colour.size()) ? params.noise_colour[b] : 1.0;
-    const double noise = alpha * colour * noise_energy[b] / double(count);
+    const double noise = alpha * bandColour(params, b) * noise_energy[b] / double(count);
     local[b].resize(n);
     double sum = 0;
     for (int v = 0; v < n; ++v) {
-      const double near = energy[v][b - first];
-      const float gain = near > 0 ? float(std::clamp(1.0 - noise / near, 0.0, 1.0)) : 1.0f;
+      const float gain = float(wienerGain(noise, energy[v][b - first]));
       local[b][taubin.local(v)] = gain;
       if (counted[v]) sum += gain;
     }
@@ -464,12 +471,10 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   // Per band: the gain keeps the band's energy beyond α times its noise (the colour's share of
   // it); spikes (robust bands) count by the energies below the robust quantile.
   for (int b = 0; b < bands; ++b) {
-    const double colour = b < int(params.noise_colour.size()) ? params.noise_colour[b] : 1.0;
     const bool trimmed = trim_band(b);
     const double noise = trimmed ? noise_trimmed[b] : noise_energy[b];
     const double total = trimmed ? energy_trimmed[b] : energy[b];
-    report.gains[b] =
-        total > 0 ? std::clamp(1.0 - report.alpha * colour * noise / total, 0.0, 1.0) : 1.0;
+    report.gains[b] = detail::wienerGain(report.alpha * detail::bandColour(params, b) * noise, total);
   }
   std::vector<Vec3f>().swap(probe);
   std::vector<Vec3f>().swap(probe_previous);
