@@ -79,6 +79,7 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   integer("o.local_window_steps", o.bands.local_window_steps);
   integer("o.local_first_band", o.bands.local_first_band);
   integer("o.local_last_band", o.bands.local_last_band);
+  integer("o.fold_rounds", o.folds.max_rounds);
   real("o.level_coloured", o.colour.level_coloured);
   real("o.noise_scale", o.bands.noise_scale);
   real("o.min_noise_edges", o.bands.min_noise_edges);
@@ -190,6 +191,7 @@ int main(int argc, char **argv) {
                 double(a.window_faces) / double(std::max(1, mesh.fn)));
   if (organic) {
     std::printf(", \"fine_snr\": %.3f, \"slope\": %.2f, \"coarse_snr\": %.2f", organic->bands.fine_snr, organic->bands.shape_slope, organic->bands.coarse_snr);
+    std::printf(", \"fold_moves\": %ld", organic->fold_moves);
     std::printf(", \"noise_edges\": %.4f, \"alpha\": %.3f, \"gains\": [", organic->bands.noise_edges,
                 organic->bands.alpha);
     for (size_t b = 0; b < organic->bands.gains.size(); ++b)

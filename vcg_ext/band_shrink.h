@@ -101,6 +101,9 @@ struct BandShrinkParams {
   // The least noise level removed, in mean edge lengths: 0 trusts the estimate; the organic mode
   // raises it when the user asks for more than the estimate (a mesh measured as clean reads ~0).
   double min_noise_edges = 0;
+  // > 0: the noise level along the normals (a length) measured by the caller, instead of measuring
+  // it on the points given (the organic mode measures it before it untangles folds).
+  double given_noise_sigma = 0;
   // Boundary vertices follow their boundary curve for at most this many pairs, then stay: a curve
   // smoothed for hundreds of pairs drifts off the surface (lion head Ev ×1e-3: 1.69 unlimited,
   // 1.44 at 32, 1.31 at 16), while the faces along a noisy boundary need the smoothing (elephant
@@ -300,7 +303,9 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   std::vector<Vec3> normals;
   computeVertexNormals(points, faces, rings, normals);
   report.noise_sigma =
-      params.noise_scale * estimateNormalNoiseSigma(points, rings, fixed, normals);
+      params.noise_scale * (params.given_noise_sigma > 0
+                                ? params.given_noise_sigma
+                                : estimateNormalNoiseSigma(points, rings, fixed, normals));
   if (params.min_noise_edges > 0)
     report.noise_sigma = std::max(report.noise_sigma, params.min_noise_edges *
                                                           edgeStatistics(points, rings).mean_edge_length);

@@ -15,6 +15,7 @@
 #include "band_shrink.h"
 #include "driver_setup.h"
 #include "face_patches.h"
+#include "fold_repair.h"
 
 namespace vcg_ext {
 
@@ -45,6 +46,8 @@ struct OrganicSmoothParams {
   NoiseColourParams colour;
   bool preserve_volume = true;
   double saliency_scale = 0.003;
+  // Folded stars untangled before the band shrinkage (fold_repair.h; off by default).
+  FoldRepairParams folds;
 };
 
 struct OrganicSmoothReport {
@@ -57,6 +60,7 @@ struct OrganicSmoothReport {
   double dihedral_spread_deg = 0, roughness = 0;
   NoiseEstimate noise; // of the input (noise_estimate.h)
   double amount = 0; // the share of the measured noise level removed, with the user's strength
+  long fold_moves = 0; // moves of folded vertices onto their ring's barycentre (fold_repair.h)
   BandShrinkReport bands;
   double volume_before = 0, volume_after = 0;
   bool closed = false;
@@ -111,6 +115,16 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   if (noisy) {
     t = clock::now();
     BandShrinkParams bands = params.bands;
+    // The noise level is read before the folds are untangled: untangling removes part of the
+    // noise unevenly (measured: mushroom r0.3, noise read after it 0.129 mean edge lengths
+    // against 0.249 before, and θ three times the result without it).
+    if (params.folds.max_rounds > 0) {
+      std::vector<Vec3> normals;
+      computeVertexNormals(current, mesh.faces, rings, normals);
+      bands.given_noise_sigma = estimateNormalNoiseSigma(current, rings, fixed, normals);
+    }
+    // Before the shrinkage: it smooths along the normals, which point the wrong way on a fold.
+    report.fold_moves = repairFolds(current, mesh.faces, rings, fixed, params.folds);
     bands.noise_scale *= report.amount;
     // Asked for more than measured: at least a tenth of an edge length per strength unit above 1.
     bands.min_noise_edges = std::max(0.0, params.strength - 1) * params.noise_edges_per_strength;
@@ -209,9 +223,11 @@ inline std::string organicSummary(const OrganicSmoothReport &r, const OrganicSmo
                                   const MethodRun &run, size_t vertices) {
   if (r.amount <= 0) return "Organic: " + measuredCleanPhrase(r.noise) + ".";
   return "Organic: " + noisePhrase(r.noise, r.roughness) +
-         formatLine("; strength %.2f: removed %.2f of the noise along the normals (%.3f mean edge "
-                    "lengths); ",
-                    p.strength, r.amount,
+         formatLine("; strength %.2f: ", p.strength) +
+         (r.fold_moves > 0 ? formatLine("untangled folds (%ld vertex moves), ", r.fold_moves)
+                           : std::string()) +
+         formatLine("removed %.2f of the noise along the normals (%.3f mean edge lengths); ",
+                    r.amount,
                     r.mean_edge_length > 0 ? r.bands.noise_sigma / r.mean_edge_length : 0.0) +
          movedPhrase(run, vertices) + ".";
 }
