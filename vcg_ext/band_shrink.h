@@ -147,6 +147,7 @@ struct BandShrinkReport {
   int fine_band_probes = 0;  // probes that measured the fine band's noise
   double detail = 0;         // 0 (smooth at the edge scale) .. 1 (detailed: α = 1, no patch step)
   std::vector<double> gains; // per band, finest first (local bands: the mean of the vertices')
+  int local_from_pairs = 0, local_to_pairs = 0; // the local bands' span in Taubin pairs (0: none)
   bool cancelled = false;
 };
 
@@ -486,6 +487,11 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   const std::vector<std::vector<float>> local =
       detail::localBandGains(taubin, rings, band, normals, counted, noise_energy, count, report.alpha,
                              params, report.gains);
+  for (int b = 0; b < bands; ++b)
+    if (!local[b].empty()) {
+      if (!report.local_to_pairs) report.local_from_pairs = edges[b];
+      report.local_to_pairs = edges[b + 1];
+    }
   // Coarse base plus every band times its gain.
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
   for (int v = 0; v < n; ++v) {

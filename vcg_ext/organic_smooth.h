@@ -235,11 +235,16 @@ inline std::string organicSummary(const OrganicSmoothReport &r, const OrganicSmo
 inline std::vector<std::string> organicDetails(const OrganicSmoothReport &r) {
   std::vector<std::string> log;
   if (r.amount > 0) {
+    const std::string local =
+        r.bands.local_to_pairs > 0
+            ? formatLine("; %d-%d pairs: the mean of the vertices' local gains",
+                         r.bands.local_from_pairs, r.bands.local_to_pairs)
+            : std::string();
     std::string gains = formatLine("Shape spectrum slope %.2f, coarse-band shape/noise %.2f, "
                                    "fine-band shape/noise %.2f: alpha %.2f; band gains (fine to "
-                                   "coarse; 4-64 pairs: the mean of the vertices' local gains):",
+                                   "coarse%s):",
                                    r.bands.shape_slope, r.bands.coarse_snr, r.bands.fine_snr,
-                                   r.bands.alpha);
+                                   r.bands.alpha, local.c_str());
     for (double g : r.bands.gains) gains += formatLine(" %.2f", g);
     log.push_back(gains + ".");
   }

@@ -319,6 +319,10 @@ TEST(BandShrink, LocalGainsKeepDetailWhereItIsAndRemoveNoiseElsewhere) {
     EXPECT_GE(r_local.gains[band], 0.0);
     EXPECT_LE(r_local.gains[band], 1.0);
   }
+  // The span the log names: bands 3-6 are 4-8 to 32-64 pairs; none with one gain per band.
+  EXPECT_EQ(r_local.local_from_pairs, 4);
+  EXPECT_EQ(r_local.local_to_pairs, 64);
+  EXPECT_EQ(r_global.local_to_pairs, 0);
 }
 
 TEST(OrganicSmooth, CleanMeshesAreLeftAsTheyAre) {
