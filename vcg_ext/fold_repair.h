@@ -14,6 +14,11 @@
 // 4-view cases of bench/scanner_noise.py). Smoothing along the normals cannot unfold a star: its
 // faces' normals point the wrong way, so they are smoothed the wrong way. MeshLab's HC Laplacian
 // unfolds them with its uniform weights, at the price of smoothing everything.
+//
+// vcglib offers a route on a vcg mesh (tri::Clean::SelectFoldedFaceFromOneRingFaces: faces against
+// a plane fitted to their vertices' rings; tri::Smooth::VertexCoordLaplacian on the selection).
+// Here: the driver's flat arrays in spatial order (results independent of thread count and vertex
+// order), and the star's own vector area, exact and without a plane fit per face.
 #pragma once
 
 #include "rings.h"
