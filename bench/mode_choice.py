@@ -47,8 +47,11 @@ CAD_DENSE = ["fandisk_large", "anchor_dense", "mech-holes-shark", "turbine", "ro
 CAD_SUBDIVIDED = [("anchor", 2), ("joint", 2), ("part", 2), ("oblong", 2), ("dragknob", 2),
                   ("handle", 1), ("pipe", 2), ("u", 2), ("cross", 3), ("pinion_small", 2),
                   ("spool", 2), ("cube", 5), ("star", 4)]
-EVIDENCE = re.compile(r"after guided filtering ([0-9.]+) of the edges are flat and ([0-9.]+) of "
-                      r"the creases")
+# The automatic mode's log line (vcg_ext/auto_smooth.h): "Automatic (sharp features: 0.285 of the
+# edges flat and 0.560 of the creases confirmed after guided filtering) -> Feature-preserving: ..."
+# (on large meshes "of face pairs N edges apart flat", with "± error" on windows).
+EVIDENCE = re.compile(r"([0-9.]+)(?: ± [0-9.]+)? of (?:the edges|face pairs \d+ edges apart) flat "
+                      r"and ([0-9.]+)(?: ± [0-9.]+)? of the creases confirmed")
 
 
 def run(cmd):
@@ -72,7 +75,7 @@ def measure(build, name, noisy, clean, work):
             evidence = EVIDENCE.search(log)  # none when the mesh measured as clean
             row["flat"], row["confirmed"] = (float(x) for x in evidence.groups()) if evidence \
                 else (float("nan"), float("nan"))
-            row["chose"] = ("feature" if "feature-preserving mode." in log else "organic") \
+            row["chose"] = ("feature" if "-> Feature-preserving" in log else "organic") \
                 if evidence else "none (clean)"
     best = min(row["feature"], row["organic"])
     row["regret"] = row["auto"] / best - 1 if best > 0 else 0.0
