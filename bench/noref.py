@@ -88,13 +88,21 @@ def vertex_normals(points, faces):
 
 
 def displacement(before, after, faces):
-    """{mean, p99, normal_mean}: |after - before| per vertex and its signed normal part, in the
-    input's mean edge lengths."""
+    """{mean, p99, normal_mean, normal, tangential}: |after - before| per vertex, in the input's
+    mean edge lengths: its mean and 99th percentile, the mean of its signed part along the input's
+    vertex normals (negative: inwards), and the means of the lengths of its part along the normals
+    and of its part across them. Only the part along the normals changes the surface; the part
+    across slides vertices within it (a uniform Laplacian such as Taubin's evens out an irregular
+    triangulation that way), so the two say what a displacement did."""
     before = np.asarray(before, dtype=np.float64)
     after = np.asarray(after, dtype=np.float64)
     edge = mean_edge_length(before, faces)
     d = after - before
     length = np.linalg.norm(d, axis=1) / edge
-    along = np.einsum("ij,ij->i", d, vertex_normals(before, faces)) / edge
+    normals = vertex_normals(before, faces)
+    along = np.einsum("ij,ij->i", d, normals)
+    across = np.linalg.norm(d - along[:, None] * normals, axis=1)
     return {"mean": float(length.mean()), "p99": float(np.percentile(length, 99)),
-            "normal_mean": float(along.mean())}
+            "normal_mean": float(along.mean() / edge),
+            "normal": float(np.abs(along).mean() / edge),
+            "tangential": float(across.mean() / edge)}

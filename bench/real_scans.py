@@ -156,21 +156,26 @@ def main():
         f" --build {args.build}" if args.build != str(REPO / "build") else "")
     L = [f"Produced by `{cmd}` on {machine['date']}, commit {machine['commit']}, in "
          f"{elapsed / 60:.1f} min. Do not edit by hand: rerun the command.", "",
-         "Displacement in the input's mean edge lengths (mean / 99th percentile / mean signed "
-         "part along the input's normals, negative = inwards); median dihedral spread (°) of the "
-         "input → the result; whole-process wall / CPU (user + system) time in seconds, one run "
-         "(a shared machine: wall time swings with the other jobs' load, CPU time much less).", "",
+         "Displacement in the input's mean edge lengths: mean / 99th percentile / mean signed "
+         "part along the input's normals (negative = inwards), then the means of its parts along "
+         "the normals (n, what changes the surface) and across them (t, vertices sliding within "
+         "the surface); median dihedral spread (°) of the input → the result; whole-process wall "
+         "/ CPU (user + system) time in seconds, one run (a shared machine: wall time swings with "
+         "the other jobs' load, CPU time much less).", "",
          "| scan | vertices | input spread | " + " | ".join(METHODS) +
-         " | default ÷ Taubin ×10 (mean displacement) |", "|---|---|---|" + "---|" * len(METHODS)
-         + "---|"]
+         " | default ÷ Taubin ×10: mean displacement / its part along the normals |",
+         "|---|---|---|" + "---|" * len(METHODS) + "---|"]
     for name, row in results.items():
-        cells = [f"{row[m]['mean']:.3f} / {row[m]['p99']:.3f} / {row[m]['normal_mean']:+.3f}; "
+        cells = [f"{row[m]['mean']:.3f} / {row[m]['p99']:.3f} / {row[m]['normal_mean']:+.3f} "
+                 f"(n {row[m]['normal']:.3f}, t {row[m]['tangential']:.3f}); "
                  f"spread → {row[m]['spread']:.1f}; {row[m]['wall']:.1f} / {row[m]['cpu']:.1f} s"
                  for m in METHODS]
-        taubin = row["MeshLab Taubin x10"]["mean"]
-        ratio = row[METHODS[0]]["mean"] / taubin if taubin > 0 else float("nan")
+        taubin = row["MeshLab Taubin x10"]
+
+        def ratio(key):
+            return row[METHODS[0]][key] / taubin[key] if taubin[key] > 0 else float("nan")
         L.append(f"| {name} | {row['vertices']} | {row['spread']:.1f} | " + " | ".join(cells) +
-                 f" | {ratio:.2f} |")
+                 f" | {ratio('mean'):.2f} / {ratio('normal'):.2f} |")
     L += ["", "Pictures (input, then the methods in the table's order; full view above, close-up "
           "below; flat shading, one view and frame per scan):", ""]
     L += [f"![{name}](../docs/img/real_{name}.png)" for name in results]

@@ -139,3 +139,12 @@ def test_displacement_in_mean_edges():
     d = noref.displacement(points, points - 0.5 * edge * normal, faces)
     assert d["mean"] == pytest.approx(0.5) and d["p99"] == pytest.approx(0.5)
     assert d["normal_mean"] == pytest.approx(-0.5)
+    assert d["normal"] == pytest.approx(0.5) and d["tangential"] == pytest.approx(0, abs=1e-12)
+    # a slide within the plane: no normal part; half the vertices up, half down: signed mean 0
+    d = noref.displacement(points, points + [0.3 * edge, 0.4 * edge, 0], faces)
+    assert d["mean"] == pytest.approx(0.5) and d["tangential"] == pytest.approx(0.5)
+    assert d["normal"] == pytest.approx(0, abs=1e-12)
+    sign = np.where(np.arange(len(points)) % 2 == 0, 1.0, -1.0)[:, None]
+    d = noref.displacement(points, points + 0.2 * edge * sign * normal, faces)
+    assert d["normal"] == pytest.approx(0.2) and d["tangential"] == pytest.approx(0, abs=1e-12)
+    assert d["normal_mean"] == pytest.approx(0, abs=1e-12)
