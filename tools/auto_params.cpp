@@ -80,6 +80,10 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   integer("o.local_first_band", o.bands.local_first_band);
   integer("o.local_last_band", o.bands.local_last_band);
   integer("o.fold_rounds", o.folds.max_rounds);
+  r["tail_power"] = [&p](double v) { p.feature.tails.power = p.organic.tails.power = v; };
+  r["tail_max"] = [&p](double v) { p.feature.tails.max_factor = p.organic.tails.max_factor = v; };
+  r["tail_from"] = [&p](double v) { p.feature.tails.level_from = p.organic.tails.level_from = v; };
+  r["tail_full"] = [&p](double v) { p.feature.tails.level_full = p.organic.tails.level_full = v; };
   real("o.level_coloured", o.colour.level_coloured);
   real("o.noise_scale", o.bands.noise_scale);
   real("o.min_noise_edges", o.bands.min_noise_edges);
@@ -184,6 +188,8 @@ int main(int argc, char **argv) {
     std::printf("%s%.4f", b ? ", " : "", noise.spectrum[b]);
   std::printf("], \"flat_share\": %.4f, \"confirmed_share\": %.4f, \"crease_pairs\": %ld",
               a.evidence.flat_share, a.evidence.confirmed_share, a.evidence.crease_pairs);
+  std::printf(", \"tail\": %.4f, \"tail_factor\": %.4f", noise.tail,
+              feature ? feature->tail_factor : organic->tail_factor);
   if (a.windowed)
     std::printf(", \"windowed\": true, \"flat_error\": %.4f, \"confirmed_error\": %.4f, "
                 "\"window_face_share\": %.3f",

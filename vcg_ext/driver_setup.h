@@ -179,6 +179,15 @@ inline std::string noisePhrase(const NoiseEstimate &noise, double roughness) {
                     noise.spread_deg, noise.decay, noise.level, noise.correlated_level, roughness);
 }
 
+// After the strength in the summary lines: the heavy-tail factor when it acts on a noisy mesh
+// (heavyTailFactor).
+inline std::string tailPhrase(double factor, double amount, const NoiseEstimate &noise) {
+  return factor > 1 && amount > 0
+             ? formatLine(", the measured amount x %.2f for the noise's heavy tails (%.2f of a "
+                          "Gaussian's rms)", factor, noise.tail)
+             : std::string();
+}
+
 
 // Applies the boundary mode to a boundary vertex's proposed position.
 inline Vec3 constrainBoundaryMove(int i, const Vec3 &moved, const std::vector<Vec3> &current,

@@ -76,8 +76,10 @@ struct FeatureSmoothParams {
   bool alpha_override = true;
   bool selected_only = false;
   BoundaryMode boundary = BoundaryMode::NoInward;
-  // The user's strength: scales the pass counts the noise estimate asks for (strengthen()).
+  // The user's strength: scales the pass counts the noise estimate asks for (strengthen()); the
+  // need it scales includes the noise's heavy-tail factor (noise_estimate.h's heavyTailFactor).
   double strength = 1.0;
+  HeavyTailParams tails;
   // Closed meshes: one offset along the vertex normals at the end restores the input's volume
   // (the pre-pass and the patch updates lose 0.85 % on a coarse organic mesh: the cow).
   bool preserve_volume = true;
@@ -97,6 +99,7 @@ struct FeatureSmoothReport {
   NoiseEstimate noise;            // of the input (noise_estimate.h)
   double roughness = 0;           // 0 (clean) .. 1 (noisy), from the noise estimate
   double amount = 0;              // the roughness with the user's strength: what scales the passes
+  double tail_factor = 1;         // the noise's heavy-tail factor on the need (heavyTailFactor)
   int prepass_pairs = 0;          // Taubin pairs actually run
   int vertex_iterations = 0;      // vertex updates actually run per pass
   double flat_share = 0;          // edges flat after the first guidance period (planar_extra)
@@ -162,7 +165,7 @@ using FilteredNormalsCheck = std::function<bool(
 // The feature mode's pass counts on a mesh: its measured roughness (measuredRoughness) with the
 // user's strength scales the pre-pass, the normal filter and the vertex updates.
 struct FeaturePassCounts {
-  double spread_deg = 0, roughness = 0, amount = 0;
+  double spread_deg = 0, roughness = 0, amount = 0, tail_factor = 1;
   int prepass_pairs = 0, normal_iterations = 0, vertex_iterations = 0;
   // The normal filter iterations before the first pass's check (FeatureSmoothParams::check_iterations).
   int checkIterations(const FeatureSmoothParams &params) const {
@@ -178,7 +181,10 @@ inline FeaturePassCounts featurePassCounts(const MeshArrays &mesh, const Feature
   c.spread_deg = inputSpreadDeg(mesh, setup);
   c.roughness = measuredRoughness(setup.noise, c.spread_deg, params.clean_spread_deg,
                                   params.noisy_spread_deg, params.correlated_bands);
-  c.amount = strengthen(c.roughness, params.strength);
+  // The factor scales the measured need, not the user's strength: a mesh measured as clean
+  // (need 0) stays as it is.
+  c.tail_factor = heavyTailFactor(setup.noise, params.tails);
+  c.amount = strengthen(c.roughness * c.tail_factor, params.strength);
   auto scaled = [&](int count) { return int(std::lround(c.amount * std::max(0, count))); };
   c.prepass_pairs = scaled(params.prepass_pairs);
   c.normal_iterations = scaled(params.normals.iterations);
@@ -250,6 +256,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   report.noise = setup.noise;
   report.roughness = counts.roughness;
   report.amount = counts.amount;
+  report.tail_factor = counts.tail_factor;
   report.prepass_pairs = counts.prepass_pairs;
   NormalFilterParams normal_filter = params.normals;
   normal_filter.iterations = counts.normal_iterations;
@@ -445,10 +452,10 @@ inline std::string featureSummary(const FeatureSmoothReport &r, const FeatureSmo
                                   const MethodRun &run, size_t vertices) {
   if (r.amount <= 0) return "Feature-preserving: " + measuredCleanPhrase(r.noise) + ".";
   return "Feature-preserving: " + noisePhrase(r.noise, r.roughness) +
-         formatLine("; strength %.2f: %d pre-pass pairs, %d normal filter iterations and %d vertex "
-                    "updates per pass, %d passes; ",
-                    p.strength, r.prepass_pairs, r.normal_iterations, r.vertex_iterations,
-                    r.outer_iterations_done) +
+         formatLine("; strength %.2f%s: %d pre-pass pairs, %d normal filter iterations and %d "
+                    "vertex updates per pass, %d passes; ",
+                    p.strength, tailPhrase(r.tail_factor, r.amount, r.noise).c_str(), r.prepass_pairs,
+                    r.normal_iterations, r.vertex_iterations, r.outer_iterations_done) +
          movedPhrase(run, vertices) + ".";
 }
 

@@ -65,6 +65,9 @@ struct NoiseEstimate {
   double decay = 1;              // smoothed_spread_deg / spread_deg (1 when the spread is 0)
   double mean_edge_length = 0;
   long counted_vertices = 0;     // interior, manifold vertices the medians ran over
+  // The finest band's root mean square over its median's normal std (median / 0.6745): 1 for
+  // Gaussian noise, above it for heavy-tailed noise (heavyTailFactor).
+  double tail = 1;
 };
 
 namespace detail {
@@ -165,8 +168,13 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
       used[b][v] = 1;
     }
     detail::eraseNaN(along);
+    double squares = 0; // in vertex order, before the median reorders the values
+    if (b == 0)
+      for (double a : along) squares += a * a;
     if (b == 0) out.counted_vertices = long(along.size());
     along_median[b] = detail::medianOf(along);
+    if (b == 0 && along_median[0] > 0)
+      out.tail = std::sqrt(squares / double(along.size())) / (along_median[0] / 0.6745);
     std::vector<Vec3>().swap(snapshot[b]); // read for the last time
   }
   std::vector<double>().swap(along);
@@ -221,6 +229,31 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
 } // namespace vcg_ext
 
 namespace vcg_ext {
+
+// How much more than the median-based level heavy-tailed noise needs (heavyTailFactor).
+struct HeavyTailParams {
+  double power = 1.0;      // the factor is tail^power (0: off)
+  double max_factor = 2.0;
+  // It ramps in from level_from to level_full mean edge lengths: below about 0.08 the finest band
+  // of a clean curved mesh reads that much (band_shrink.h's noise_for_any_alpha), and shape
+  // detail, which gathers in a few places, makes that band heavy-tailed by itself.
+  double level_from = 0.08, level_full = 0.12;
+};
+
+// The factor on the amount of smoothing for noise whose finest band is heavy-tailed: its root
+// mean square over its median-based std (NoiseEstimate::tail), raised to `power`, where the level
+// is high enough for the band to be noise. Scanner noise is a mixture: its std grows with depth
+// and incidence, a few outliers; the median reads its quiet majority and the Wiener gains then keep
+// the rest (bench/SCANNER_METHOD.md "Heavy tails"). Gaussian noise reads a tail of about 1.
+inline double heavyTailFactor(const NoiseEstimate &noise, const HeavyTailParams &params = {}) {
+  if (!(params.power > 0) || !(noise.tail > 1) || !std::isfinite(noise.tail)) return 1.0;
+  const double ramp = params.level_full > params.level_from
+                          ? std::clamp((noise.level - params.level_from) /
+                                           (params.level_full - params.level_from), 0.0, 1.0)
+                          : double(noise.level >= params.level_from);
+  const double full = std::min(std::pow(noise.tail, params.power), params.max_factor);
+  return 1.0 + ramp * (full - 1.0);
+}
 
 // How a noise's colour is extrapolated beyond the estimate's bands (noiseColour).
 struct NoiseColourParams {

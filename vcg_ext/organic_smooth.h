@@ -41,6 +41,7 @@ struct OrganicSmoothParams {
   // measured as clean is smoothed too when asked.
   double strength = 1.0;
   double noise_edges_per_strength = 0.1;
+  HeavyTailParams tails; // the noise's heavy-tail factor on the measured need (heavyTailFactor)
   // The noise's colour (noise_estimate.h's noiseColour) multiplies the white probe's band energies.
   bool coloured_noise = false;
   NoiseColourParams colour;
@@ -60,6 +61,7 @@ struct OrganicSmoothReport {
   double dihedral_spread_deg = 0, roughness = 0;
   NoiseEstimate noise; // of the input (noise_estimate.h)
   double amount = 0; // the share of the measured noise level removed, with the user's strength
+  double tail_factor = 1; // the noise's heavy-tail factor on the measured need (heavyTailFactor)
   long fold_moves = 0; // moves of folded vertices onto their ring's barycentre (fold_repair.h)
   BandShrinkReport bands;
   double volume_before = 0, volume_after = 0;
@@ -107,8 +109,12 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   if (progress && !progress(5, "Noise estimate")) return report.cancelled = true, report;
 
   std::vector<Vec3> current = mesh.points;
+  // The heavy-tail factor scales the measured need, not the user's strength: a mesh measured as
+  // clean (need 0) stays as it is.
+  report.tail_factor = heavyTailFactor(setup.noise, params.tails);
   report.amount = detail::strengthen(
-      std::min(1.0, report.roughness / params.full_noise_roughness), params.strength);
+      std::min(1.0, report.roughness / params.full_noise_roughness) * report.tail_factor,
+      params.strength);
   const bool noisy = report.amount > 0 && edge > 0;
   if (progress && !progress(6, noisy ? "Band shrinkage" : "The mesh measures as clean"))
     return report.cancelled = true, report;
@@ -223,7 +229,7 @@ inline std::string organicSummary(const OrganicSmoothReport &r, const OrganicSmo
                                   const MethodRun &run, size_t vertices) {
   if (r.amount <= 0) return "Organic: " + measuredCleanPhrase(r.noise) + ".";
   return "Organic: " + noisePhrase(r.noise, r.roughness) +
-         formatLine("; strength %.2f: ", p.strength) +
+         formatLine("; strength %.2f%s: ", p.strength, tailPhrase(r.tail_factor, r.amount, r.noise).c_str()) +
          (r.fold_moves > 0 ? formatLine("untangled folds (%ld vertex moves), ", r.fold_moves)
                            : std::string()) +
          formatLine("removed %.2f of the noise along the normals (%.3f mean edge lengths); ",

@@ -170,3 +170,56 @@ TEST(NoiseEstimate, DegenerateInputDoesNotCrash) {
   const NoiseEstimate with_nan = estimate(sphere);
   EXPECT_FALSE(with_nan.noisy);
 }
+
+namespace {
+// Gaussian noise along the clean normals whose std is `sigma` on the lower half of the sphere and
+// `ratio` times that on the upper half: the way a scanner's noise grows with depth.
+MeshArrays withTwoLevelNoise(const MeshArrays &clean, double sigma, double ratio, unsigned seed) {
+  const Rings rings = computeRings(int(clean.points.size()), clean.faces);
+  std::vector<Vec3> normals;
+  computeVertexNormals(clean.points, clean.faces, rings, normals);
+  MeshArrays noisy = clean;
+  test_meshes::addNoise(noisy, sigma, seed, [&](int i) {
+    return Vec3(normals[i] * (clean.points[i].z() > 0 ? ratio : 1.0));
+  });
+  return noisy;
+}
+} // namespace
+
+TEST(NoiseEstimate, TheTailReadsOneForGaussianNoiseAndMoreForAMixture) {
+  const MeshArrays sphere = test_meshes::icosphere(1.0, 5);
+  const double edge = meanEdge(sphere);
+  for (double k : {0.1, 0.2}) {
+    const NoiseEstimate e = estimate(test_meshes::withNormalNoise(sphere, k * edge, 7));
+    RecordProperty("tail_gaussian", std::to_string(e.tail));
+    EXPECT_NEAR(e.tail, 1.0, 0.05) << k;
+  }
+  // Half the vertices at 3x the std: a mixture whose rms is sqrt(5) = 2.24 stds of the quiet half
+  // and whose |x| has its median at 1.1 of them, so rms / (median / 0.6745) = 1.37. The band mixes
+  // a vertex with its ring, which blurs the seam a little.
+  const NoiseEstimate e = estimate(withTwoLevelNoise(sphere, 0.1 * edge, 3.0, 7));
+  RecordProperty("tail_mixture", std::to_string(e.tail));
+  EXPECT_NEAR(e.tail, 1.37, 0.07);
+}
+
+TEST(NoiseEstimate, HeavyTailFactorRampsWithTheLevelAndIsCapped) {
+  NoiseEstimate e;
+  e.tail = 1.4;
+  const HeavyTailParams params; // power 1, from 0.08 to 0.12 mean edge lengths, at most 2
+  e.level = 0.05;
+  EXPECT_EQ(heavyTailFactor(e, params), 1.0); // light noise: the band may be shape
+  e.level = 0.10;
+  EXPECT_NEAR(heavyTailFactor(e, params), 1.2, 1e-12);
+  e.level = 0.3;
+  EXPECT_NEAR(heavyTailFactor(e, params), 1.4, 1e-12);
+  HeavyTailParams squared = params;
+  squared.power = 2;
+  EXPECT_NEAR(heavyTailFactor(e, squared), 1.96, 1e-12);
+  e.tail = 3.0;
+  EXPECT_NEAR(heavyTailFactor(e, squared), 2.0, 1e-12); // the cap
+  HeavyTailParams off = params;
+  off.power = 0;
+  EXPECT_EQ(heavyTailFactor(e, off), 1.0);
+  e.tail = 0.9; // lighter tails than Gaussian noise's: never less than the measured amount
+  EXPECT_EQ(heavyTailFactor(e, params), 1.0);
+}
