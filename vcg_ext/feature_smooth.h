@@ -162,8 +162,9 @@ using FilteredNormalsCheck = std::function<bool(
     const std::vector<Vec3> &filtered_normals, const std::vector<Vec3> &prepassed_positions,
     int prepass_pairs, const detail::DriverSetup &setup)>;
 
-// The feature mode's pass counts on a mesh: its measured roughness (measuredRoughness) with the
-// user's strength scales the pre-pass, the normal filter and the vertex updates.
+// The feature mode's pass counts on a mesh: its measured roughness (measuredRoughness) times the
+// noise's heavy-tail factor, with the user's strength, scales the pre-pass, the normal filter and
+// the vertex updates.
 struct FeaturePassCounts {
   double spread_deg = 0, roughness = 0, amount = 0, tail_factor = 1;
   int prepass_pairs = 0, normal_iterations = 0, vertex_iterations = 0;
@@ -454,8 +455,9 @@ inline std::string featureSummary(const FeatureSmoothReport &r, const FeatureSmo
   return "Feature-preserving: " + noisePhrase(r.noise, r.roughness) +
          formatLine("; strength %.2f%s: %d pre-pass pairs, %d normal filter iterations and %d "
                     "vertex updates per pass, %d passes; ",
-                    p.strength, tailPhrase(r.tail_factor, r.amount, r.noise).c_str(), r.prepass_pairs,
-                    r.normal_iterations, r.vertex_iterations, r.outer_iterations_done) +
+                    p.strength, tailPhrase(r.tail_factor, r.amount, r.noise).c_str(),
+                    r.prepass_pairs, r.normal_iterations, r.vertex_iterations,
+                    r.outer_iterations_done) +
          movedPhrase(run, vertices) + ".";
 }
 

@@ -229,7 +229,8 @@ inline std::string organicSummary(const OrganicSmoothReport &r, const OrganicSmo
                                   const MethodRun &run, size_t vertices) {
   if (r.amount <= 0) return "Organic: " + measuredCleanPhrase(r.noise) + ".";
   return "Organic: " + noisePhrase(r.noise, r.roughness) +
-         formatLine("; strength %.2f%s: ", p.strength, tailPhrase(r.tail_factor, r.amount, r.noise).c_str()) +
+         formatLine("; strength %.2f%s: ", p.strength,
+                    tailPhrase(r.tail_factor, r.amount, r.noise).c_str()) +
          (r.fold_moves > 0 ? formatLine("untangled folds (%ld vertex moves), ", r.fold_moves)
                            : std::string()) +
          formatLine("removed %.2f of the noise along the normals (%.3f mean edge lengths); ",

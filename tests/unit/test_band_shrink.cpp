@@ -381,7 +381,8 @@ TEST(OrganicSmooth, HeavyTailedNoiseGetsTheFactorAndLessIsLeft) {
   EXPECT_EQ(without.tail_factor, 1.0);
   EXPECT_NEAR(with.tail_factor, with.noise.tail, 1e-12); // the level is past the ramp
   EXPECT_NEAR(with.amount, with.tail_factor * without.amount, 1e-12);
-  const double theta = deviation(out, clean).theta_deg, theta_plain = deviation(plain, clean).theta_deg;
+  const double theta = deviation(out, clean).theta_deg;
+  const double theta_plain = deviation(plain, clean).theta_deg;
   RecordProperty("theta", std::to_string(theta));
   RecordProperty("theta_without", std::to_string(theta_plain));
   EXPECT_LT(theta, 0.97 * theta_plain);
