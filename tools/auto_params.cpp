@@ -80,6 +80,8 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   integer("o.local_first_band", o.bands.local_first_band);
   integer("o.local_last_band", o.bands.local_last_band);
   integer("o.fold_rounds", o.folds.max_rounds);
+  real("o.fold_min_tail", o.fold_min_tail);
+  real("o.fold_min_level", o.fold_min_level);
   r["tail_power"] = [&p](double v) { p.feature.tails.power = p.organic.tails.power = v; };
   r["tail_max"] = [&p](double v) { p.feature.tails.max_factor = p.organic.tails.max_factor = v; };
   r["tail_from"] = [&p](double v) { p.feature.tails.level_from = p.organic.tails.level_from = v; };

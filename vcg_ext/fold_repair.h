@@ -29,10 +29,10 @@
 namespace vcg_ext {
 
 struct FoldRepairParams {
-  // Rounds of moves (folds that survive them are left to the smoothing). Off by default: it helps
-  // on scanner noise and hurts on noise in random directions, and the automatic mode cannot yet
-  // tell the two apart (bench/SCANNER_METHOD.md "Untangling folds").
-  int max_rounds = 0;
+  // Rounds of moves (folds that survive them are left to the smoothing; 0: none). It helps on
+  // scanner noise and hurts on noise in random directions, so the organic mode runs it only on
+  // heavy-tailed noise (organic_smooth.h; bench/SCANNER_METHOD.md "Untangling folds").
+  int max_rounds = 5;
 };
 
 namespace detail {

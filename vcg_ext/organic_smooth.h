@@ -47,8 +47,14 @@ struct OrganicSmoothParams {
   NoiseColourParams colour;
   bool preserve_volume = true;
   double saliency_scale = 0.003;
-  // Folded stars untangled before the band shrinkage (fold_repair.h; off by default).
+  // Folded stars untangled before the band shrinkage (fold_repair.h), only where the noise is
+  // heavy-tailed (NoiseEstimate::tail at least fold_min_tail) at a level of at least
+  // fold_min_level mean edge lengths: scanner noise, whose view-ray error folds stars at grazing
+  // angles. Noise in random directions reads a tail of about 1 and keeps its stars (untangling
+  // them cost thin parts there); light noise, whose finest band can be heavy-tailed by its shape
+  // detail, is below the level. bench/SCANNER_METHOD.md "Untangling folds".
   FoldRepairParams folds;
+  double fold_min_tail = 1.2, fold_min_level = 0.08;
 };
 
 struct OrganicSmoothReport {
@@ -124,13 +130,16 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     // The noise level is read before the folds are untangled: untangling removes part of the
     // noise unevenly (measured: mushroom r0.3, the shrinkage read 0.129 mean edge lengths after
     // it against 0.243 on the input, and θ three times the result without it).
-    if (params.folds.max_rounds > 0) {
+    FoldRepairParams folds = params.folds;
+    if (!(setup.noise.tail >= params.fold_min_tail && setup.noise.level >= params.fold_min_level))
+      folds.max_rounds = 0;
+    if (folds.max_rounds > 0) {
       std::vector<Vec3> normals;
       computeVertexNormals(current, mesh.faces, rings, normals);
       bands.given_noise_sigma = estimateNormalNoiseSigma(current, rings, fixed, normals);
     }
     // Before the shrinkage: it smooths along the normals, which point the wrong way on a fold.
-    report.fold_moves = repairFolds(current, mesh.faces, rings, fixed, params.folds);
+    report.fold_moves = repairFolds(current, mesh.faces, rings, fixed, folds);
     bands.noise_scale *= report.amount;
     // Asked for more than measured: at least a tenth of an edge length per strength unit above 1.
     bands.min_noise_edges = std::max(0.0, params.strength - 1) * params.noise_edges_per_strength;

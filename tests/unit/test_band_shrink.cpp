@@ -401,6 +401,47 @@ TEST(OrganicSmooth, HeavyTailedNoiseGetsTheFactorAndLessIsLeft) {
   EXPECT_LT(g.tail_factor, 1.05);
 }
 
+// Folded stars are untangled only under heavy-tailed noise: noise along one direction (a view
+// ray: tangential near the sphere's equator, where it folds stars), three times as strong on the
+// upper half, gets the untangling; Gaussian noise in random directions, which folds stars too,
+// does not (its tail reads about 1), and the same noise below the level gate neither.
+TEST(OrganicSmooth, FoldsAreUntangledOnlyUnderHeavyTailedNoise) {
+  const MeshArrays clean = test_meshes::icosphere(1.0, 5);
+  const double edge = meanEdge(clean);
+  const Rings rings = computeRings(int(clean.points.size()), clean.faces);
+  auto folded = [&](const MeshArrays &m) {
+    long count = 0;
+    for (int v = 0; v < int(m.points.size()); ++v)
+      count += detail::starFolded(v, m.points, m.faces, rings);
+    return count;
+  };
+  MeshArrays view = clean;
+  test_meshes::addNoise(view, 0.25 * edge, 9, [&](int i) {
+    return Vec3(Vec3(0.6, 0.0, 0.8) * (clean.points[i].z() > 0 ? 3.0 : 1.0));
+  });
+  MeshArrays random = clean;
+  test_meshes::addNoise(random, 0.3 * edge, 9);
+  ASSERT_GT(folded(view), 100);
+  ASSERT_GT(folded(random), 100);
+  OrganicSmoothReport v, r, low;
+  organicSmoothed(view, OrganicSmoothParams(), &v);
+  organicSmoothed(random, OrganicSmoothParams(), &r);
+  RecordProperty("tail_view", std::to_string(v.noise.tail));
+  RecordProperty("tail_random", std::to_string(r.noise.tail));
+  EXPECT_GE(v.noise.tail, OrganicSmoothParams().fold_min_tail);
+  EXPECT_GT(v.fold_moves, 0);
+  EXPECT_LT(r.noise.tail, 1.1);
+  EXPECT_EQ(r.fold_moves, 0);
+  OrganicSmoothParams gated;
+  gated.fold_min_level = 10.0; // mean edge lengths: above any level measured here
+  organicSmoothed(view, gated, &low);
+  EXPECT_EQ(low.fold_moves, 0);
+  MethodRun run;
+  EXPECT_NE(detail::organicSummary(v, OrganicSmoothParams(), run, view.points.size())
+                .find("untangled folds"),
+            std::string::npos);
+}
+
 TEST(OrganicSmooth, OpenBoundaryIsNotPulledInward) {
   const MeshArrays clean = flatGrid();
   MeshArrays noisy = clean;

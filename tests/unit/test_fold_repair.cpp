@@ -35,7 +35,7 @@ TEST(FoldRepair, AVertexSlidPastItsNeighboursGoesBackToItsRingBarycentre) {
   points[v] += Vec3(0.3, 0.0, 0.0);
   ASSERT_GT(foldedStars(points, grid, rings), 0);
 
-  EXPECT_EQ(repairFolds(points, grid.faces, rings, fixed, FoldRepairParams()), 0); // off by default
+  EXPECT_EQ(repairFolds(points, grid.faces, rings, fixed, rounds(0)), 0); // no rounds: no moves
   const long moves = repairFolds(points, grid.faces, rings, fixed, rounds(5));
   EXPECT_GE(moves, 1);
   EXPECT_EQ(foldedStars(points, grid, rings), 0);
