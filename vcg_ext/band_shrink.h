@@ -62,9 +62,9 @@ struct BandShrinkParams {
   // 1 to 0 as that coarse band's shape/noise ratio rises from coarse_snr_smooth to
   // coarse_snr_detailed. gate: 1 at a fine-band shape/noise ratio up to gate_snr_full, 0 from
   // gate_snr_none (linear in between). level: 0 up to a noise estimate of noise_for_any_alpha mean
-  // edge lengths, 1 from noise_for_full_alpha, linear in between. θ 1.57 % above the best α of a
-  // grid on average, the earlier threshold on the fine band alone 4.11 %, the best fixed α (1.5)
-  // 3.70 % (bench/ALPHA_CHOICE.md).
+  // edge lengths, 1 from noise_for_full_alpha, linear in between. θ 1.48 % above the best α of a
+  // grid on average, the earlier threshold on the fine band alone 3.26 %, the best fixed α (1.5)
+  // 3.14 % (bench/ALPHA_CHOICE.md).
   int fine_band = 3;              // band whose shape/noise ratio gates α (4–8 pairs)
   int slope_fine_band = 4, slope_coarse_band = 7; // 8–16 and 64–128 pairs
   double slope_at_alpha_one = 4.0, alpha_per_slope = 0.4, max_alpha = 2.5;
