@@ -50,9 +50,10 @@ struct OrganicSmoothParams {
   // Folded stars untangled before the band shrinkage (fold_repair.h), only where the noise is
   // heavy-tailed (NoiseEstimate::tail at least fold_min_tail) at a level of at least
   // fold_min_level mean edge lengths: scanner noise, whose view-ray error folds stars at grazing
-  // angles. Noise in random directions reads a tail of about 1 and keeps its stars (untangling
-  // them cost thin parts there); light noise, whose finest band can be heavy-tailed by its shape
-  // detail, is below the level. bench/SCANNER_METHOD.md "Untangling folds".
+  // angles. Noise in random directions reads a tail of about 1 on an evenly triangulated mesh and
+  // keeps its stars (untangling them cost thin parts there); light noise, whose finest band can be
+  // heavy-tailed by its shape detail, is below the level. bench/SCANNER_METHOD.md "Untangling
+  // folds".
   FoldRepairParams folds;
   double fold_min_tail = 1.2, fold_min_level = 0.08;
 };
