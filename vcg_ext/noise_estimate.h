@@ -112,50 +112,86 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
   for (int v = 0; v < n; ++v)
     mesh.points[v] = rings.ring1Size(v) > 0 ? Vec3((points[v] - lowest) / edge) : Vec3::Zero();
 
+  // One Taubin run for the mesh and its white-noise probe, as band_shrink.h does: one sweep over
+  // the rings per step for both, the mesh in double (the same bits as taubinSmooth), the probe in
+  // single precision (only the medians of its band values are read: half its memory traffic).
+  // The drivers' meshes are in spatial order already.
+  const SpatialTaubin taubin(mesh.points, rings, roles.frozen, roles.boundary_neighbours,
+                             /*given_order=*/true);
   const double lambda = params.lambda, mu = params.mu;
-  auto smooth = [&](const std::vector<std::vector<Vec3> *> &fields, int pairs) {
-    taubinSmoothFields(fields, rings, roles.frozen, roles.boundary_neighbours, pairs, lambda, mu);
+  const std::vector<int> &edges = params.band_pairs;
+  const int bands = int(edges.size()) - 1;
+  // The first band is the decision's pair (the level is what that pair takes out).
+  const bool spectrum = bands >= 1 && edges[0] == 0 && edges[1] == 1;
+  // The probe: a hashed white noise of unit std per component (cells of 1/16 edge).
+  std::vector<Vec3f> probe(spectrum ? n : 0), probe_before;
+  if (spectrum) {
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+    for (int v = 0; v < n; ++v)
+      probe[v] = detail::positionHashedGaussian(Vec3((mesh.points[v] * 16.0).array().floor()),
+                                                0x4e6f697365ull)
+                     .cast<float>();
+  }
+  // The probe's median band value (per component) over the vertices the mesh's medians can count
+  // (interior, not frozen; the mesh's own medians also leave out the rare vertex whose normal or
+  // displacement is not usable, which is read only after its last snapshot).
+  std::vector<std::uint8_t> interior(n);
+  for (int v = 0; v < n; ++v)
+    interior[v] = !roles.frozen[v] && !rings.boundary[v] && rings.ring1Size(v) > 0;
+  std::vector<double> probe_median(std::max(bands, 0), 0.0), noise;
+  auto probe_band = [&](int b) {
+    noise.assign(3 * size_t(n), NAN);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+    for (int v = 0; v < n; ++v) {
+      if (!interior[v]) continue;
+      for (int k = 0; k < 3; ++k)
+        noise[3 * size_t(v) + k] = std::abs(double(probe_before[v][k]) - double(probe[v][k]));
+    }
+    detail::eraseNaN(noise);
+    probe_median[b] = detail::medianOf(noise);
+    std::vector<double>().swap(noise);
   };
 
-  // The decision: the spread before and after one pair.
+  // The decision: the spread before and after one pair (the probe's first band in the same run).
   std::vector<Vec3> smoothed = mesh.points;
-  smooth({&smoothed}, 1);
+  if (spectrum) {
+    probe_before = probe;
+    taubin.smooth({&smoothed}, {&probe}, 1, lambda, mu);
+    probe_band(0);
+  } else {
+    taubin.smooth({&smoothed}, 1, lambda, mu);
+  }
   out.smoothed_spread_deg = detail::spreadOf(smoothed, faces, face_rings);
   // A spread of a few hundredths of a degree is a flat mesh: its ratio says nothing.
   out.decay = out.spread_deg > 0.01 ? out.smoothed_spread_deg / out.spread_deg : 1.0;
   out.noisy = out.spread_deg >= params.noisy_spread_deg ||
               (out.decay <= params.max_decay &&
                out.spread_deg - out.smoothed_spread_deg >= params.min_drop_deg);
+  if (!spectrum) return out;
 
-  // The spectrum: the mesh's Taubin bands along the normals of its last snapshot, against a
-  // hashed white-noise probe (unit std per component) through the same steps. The mesh runs
-  // first, snapshot by snapshot (each continues the one before, the decision's pair the first),
-  // so that its band displacements can be read along the last one's normals; then the probe,
-  // band by band (it needs no normals). Each field runs its pairs once.
-  const std::vector<int> &edges = params.band_pairs;
-  const int bands = int(edges.size()) - 1;
-  if (bands < 1) return out;
-  std::vector<std::vector<Vec3>> snapshot(bands + 1); // empty: 0 pairs, the mesh itself
-  for (int b = 0; b <= bands; ++b) {
-    if (edges[b] <= 0) continue;
-    const bool after_decision = b == 0 || edges[b - 1] <= 0;
-    snapshot[b] = after_decision ? smoothed : snapshot[b - 1];
-    smooth({&snapshot[b]}, edges[b] - (after_decision ? 1 : edges[b - 1]));
+  // The spectrum: the mesh's Taubin bands along the normals of its last snapshot, against the
+  // probe's through the same steps. Each snapshot continues the one before (the decision's pair
+  // the first) and is kept until the last one's normals are known.
+  std::vector<std::vector<Vec3>> snapshot(bands + 1); // snapshot[0]: the mesh itself
+  snapshot[1].swap(smoothed);
+  for (int b = 1; b < bands; ++b) {
+    snapshot[b + 1] = snapshot[b];
+    probe_before = probe;
+    taubin.smooth({&snapshot[b + 1]}, {&probe}, edges[b + 1] - edges[b], lambda, mu);
+    probe_band(b);
   }
-  std::vector<Vec3>().swap(smoothed);
+  std::vector<Vec3f>().swap(probe);
+  std::vector<Vec3f>().swap(probe_before);
   auto at = [&](int b) -> const std::vector<Vec3> & {
-    return snapshot[b].empty() ? mesh.points : snapshot[b];
+    return b == 0 ? mesh.points : snapshot[b];
   };
   std::vector<Vec3> normals;
   computeVertexNormals(at(bands), faces, rings, normals);
   std::vector<std::uint8_t> counted(n);
-  for (int v = 0; v < n; ++v)
-    counted[v] = !roles.frozen[v] && !rings.boundary[v] && rings.ring1Size(v) > 0 &&
-                 normals[v].squaredNorm() != 0;
-  // Per band: the median displacement along the normals, and which vertices it counted (a
-  // non-finite displacement is left out of the probe's median too).
-  std::vector<double> along, along_median(bands, 0.0);
-  std::vector<std::vector<std::uint8_t>> used(bands, std::vector<std::uint8_t>(n, 0));
+  for (int v = 0; v < n; ++v) counted[v] = interior[v] && normals[v].squaredNorm() != 0;
+  // Per band: the median displacement along the normals (a non-finite one is left out).
+  std::vector<double> along;
+  out.spectrum.assign(bands, 0.0);
   for (int b = 0; b < bands; ++b) {
     const std::vector<Vec3> &current = at(b), &next = at(b + 1);
     along.assign(n, NAN);
@@ -163,46 +199,18 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
     for (int v = 0; v < n; ++v) {
       if (!counted[v]) continue;
       const double d = (current[v] - next[v]).dot(normals[v]);
-      if (!std::isfinite(d)) continue;
-      along[v] = std::abs(d);
-      used[b][v] = 1;
+      if (std::isfinite(d)) along[v] = std::abs(d);
     }
     detail::eraseNaN(along);
     double squares = 0; // in vertex order, before the median reorders the values
     if (b == 0)
       for (double a : along) squares += a * a;
     if (b == 0) out.counted_vertices = long(along.size());
-    along_median[b] = detail::medianOf(along);
-    if (b == 0 && along_median[0] > 0)
-      out.tail = std::sqrt(squares / double(along.size())) / (along_median[0] / 0.6745);
-    std::vector<Vec3>().swap(snapshot[b]); // read for the last time
-  }
-  std::vector<double>().swap(along);
-  snapshot.clear();
-  std::vector<Vec3>().swap(normals);
-
-  std::vector<Vec3> probe_current(n), probe_next;
-#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
-  for (int v = 0; v < n; ++v)
-    probe_current[v] = detail::positionHashedGaussian(
-        Vec3((mesh.points[v] * 16.0).array().floor()), 0x4e6f697365ull); // cells of 1/16 edge
-  smooth({&probe_current}, edges[0]);
-  std::vector<double> noise;
-  out.spectrum.assign(bands, 0.0);
-  for (int b = 0; b < bands; ++b) {
-    probe_next = probe_current;
-    smooth({&probe_next}, edges[b + 1] - edges[b]);
-    noise.assign(3 * size_t(n), NAN);
-#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
-    for (int v = 0; v < n; ++v) {
-      if (!used[b][v]) continue;
-      const Vec3 p = probe_current[v] - probe_next[v];
-      for (int k = 0; k < 3; ++k) noise[3 * size_t(v) + k] = std::abs(p[k]);
-    }
-    detail::eraseNaN(noise);
-    const double probe_median = detail::medianOf(noise);
-    out.spectrum[b] = probe_median > 0 ? along_median[b] / probe_median : 0.0;
-    probe_current.swap(probe_next);
+    const double along_median = detail::medianOf(along);
+    if (b == 0 && along_median > 0)
+      out.tail = std::sqrt(squares / double(along.size())) / (along_median / 0.6745);
+    out.spectrum[b] = probe_median[b] > 0 ? along_median / probe_median[b] : 0.0;
+    if (b > 0) std::vector<Vec3>().swap(snapshot[b]); // read for the last time
   }
   out.level = out.spectrum[0];
   out.correlated_level = *std::max_element(out.spectrum.begin(), out.spectrum.end());

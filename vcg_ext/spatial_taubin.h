@@ -30,11 +30,18 @@ using Vec3f = Eigen::Vector3f;
 
 class SpatialTaubin {
 public:
+  // `given_order`: keep the vertices' order (a mesh the drivers already put in spatial order,
+  // spatial_order.h), so that local and global indices are the same and nothing is sorted.
   SpatialTaubin(const std::vector<Vec3> &points, const Rings &rings,
                 const std::vector<std::uint8_t> &fixed,
-                const std::vector<std::array<int, 2>> &curve)
+                const std::vector<std::array<int, 2>> &curve, bool given_order = false)
       : n_(rings.vertex_count) {
-    to_global_ = mortonOrder(points);
+    if (given_order) {
+      to_global_.resize(n_);
+      for (int v = 0; v < n_; ++v) to_global_[v] = v;
+    } else {
+      to_global_ = mortonOrder(points);
+    }
     to_local_.assign(n_, 0);
     for (int l = 0; l < n_; ++l) to_local_[to_global_[l]] = l;
     offsets_.assign(n_ + 1, 0);

@@ -141,13 +141,18 @@ TEST(NoiseEstimate, VertexAndFaceOrderInvariant) {
   const NoiseEstimate permuted = estimate(test_meshes::permuted(
       noisy, test_meshes::shuffledPermutation(int(noisy.points.size()), 9)));
   const NoiseEstimate reordered = estimate(test_meshes::facesReordered(noisy, 3));
+  // The white-noise probe runs in single precision, its neighbour sums in ring order: the
+  // spectrum agrees to float rounding (the drivers put every mesh in spatial order first, so the
+  // filters' results do not depend on the input's order at all).
+  ASSERT_EQ(reference.spectrum.size(), 4u);
   for (const NoiseEstimate &e : {permuted, reordered}) {
     EXPECT_EQ(e.noisy, reference.noisy);
-    EXPECT_NEAR(e.level, reference.level, 1e-9);
+    EXPECT_NEAR(e.level, reference.level, 1e-6 * reference.level);
     EXPECT_NEAR(e.spread_deg, reference.spread_deg, 1e-9);
     EXPECT_NEAR(e.smoothed_spread_deg, reference.smoothed_spread_deg, 1e-9);
+    ASSERT_EQ(e.spectrum.size(), reference.spectrum.size());
     for (size_t b = 0; b < e.spectrum.size(); ++b)
-      EXPECT_NEAR(e.spectrum[b], reference.spectrum[b], 1e-9);
+      EXPECT_NEAR(e.spectrum[b], reference.spectrum[b], 1e-6 * reference.spectrum[b]);
   }
 }
 

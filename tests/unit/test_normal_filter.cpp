@@ -182,6 +182,19 @@ TEST(KthSmallest, TheValueNthElementFindsForAnyThreadCountAndBracket) {
       EXPECT_EQ(detail::kthSmallest(a, k, 1000), b[k]) << "k " << k << ", " << threads << " threads";
     }
   }
+  // Past the sample's cap (65536 values): a narrow bracket, on values correlated along the array
+  // (a smooth trend plus noise, as per-vertex values in spatial order are).
+  std::vector<double> large(1500000);
+  for (size_t i = 0; i < large.size(); ++i)
+    large[i] = std::sin(1e-5 * double(i)) + 0.1 * skewed(rng);
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    for (size_t k : {size_t(3), large.size() / 2, large.size() - 2}) {
+      std::vector<double> a = large, b = large;
+      std::nth_element(b.begin(), b.begin() + k, b.end());
+      EXPECT_EQ(detail::kthSmallest(a, k), b[k]) << "k " << k << ", " << threads << " threads";
+    }
+  }
   omp_set_num_threads(saved);
 }
 

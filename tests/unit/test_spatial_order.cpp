@@ -78,6 +78,28 @@ TEST(SpatialTaubin, SameBitsAsTaubinSmoothWithBoundariesAndFixedVertices) {
   EXPECT_GT(moved, n / 2);
 }
 
+// The noise estimate's case: a mesh already in the drivers' spatial order keeps its numbering
+// (nothing sorted, local = global) and gets taubinSmooth's bits.
+TEST(SpatialTaubin, GivenOrderKeepsTheNumberingAndTheBits) {
+  const CylinderGraph g;
+  const int n = g.n;
+  std::vector<std::uint8_t> fixed(n, 0);
+  for (int v = 0; v < n; v += 13) fixed[v] = 1;
+  std::vector<Vec3> expected = g.m.points;
+  taubinSmooth(expected, g.rings, fixed, g.roles.boundary_neighbours, 4, 0.5, -0.53);
+  const SpatialTaubin taubin(g.m.points, g.rings, fixed, g.roles.boundary_neighbours,
+                             /*given_order=*/true);
+  for (int v = 0; v < n; ++v) ASSERT_EQ(taubin.local(v), v);
+  std::vector<Vec3> points = g.m.points;
+  taubin.smooth({&points}, 4, 0.5, -0.53);
+  int moved = 0;
+  for (int v = 0; v < n; ++v) {
+    ASSERT_EQ(points[v], expected[v]) << "vertex " << v;
+    moved += points[v] != g.m.points[v];
+  }
+  EXPECT_GT(moved, n / 2);
+}
+
 // The band shrinkage's case: a double field and a float field in one sweep over the graph (their
 // neighbour sums share the reads; the float sums run in the lanes of one register) give, to the
 // bit, what each gives alone, for the steps and for the Chebyshev series.
