@@ -64,8 +64,14 @@ public:
   // Stores `values` (compact order) as attribute `k`.
   void store(size_t k, const vcg_ext::MeshArrays &arrays, const std::vector<double> &values,
              long &clamped) {
-    for (size_t c = 0; c < values.size(); ++c)
-      handles_[k][arrays.mesh_slot[c]] = storable<Scalar>(values[c], clamped);
+    // Every vertex to its own slot, in parallel (scattered writes: see writePositions).
+    auto &handle = handles_[k];
+    const long count = long(values.size());
+    long clamped_here = 0;
+#pragma omp parallel for schedule(static) reduction(+ : clamped_here) if (count >= 20000)
+    for (long c = 0; c < count; ++c)
+      handle[arrays.mesh_slot[c]] = storable<Scalar>(values[c], clamped_here);
+    clamped += clamped_here;
   }
 
 private:
@@ -101,7 +107,9 @@ bool storeQuality(MeshType &m, const vcg_ext::MeshArrays &arrays,
   if (!vcg::tri::HasPerVertexQuality(m)) return false;
   using Scalar = typename MeshType::VertexType::QualityType;
   long clamped = 0; // counted with the attributes
-  for (size_t c = 0; c < values.size(); ++c)
+  const long count = long(values.size());
+#pragma omp parallel for schedule(static) reduction(+ : clamped) if (count >= 20000)
+  for (long c = 0; c < count; ++c)
     m.vert[arrays.mesh_slot[c]].Q() = storable<Scalar>(values[c], clamped);
   if (!color || !vcg::tri::HasPerVertexColor(m) || values.empty()) return false;
   const auto range = std::minmax_element(values.begin(), values.end());

@@ -91,35 +91,74 @@ struct SpatialOrder {
   }
 };
 
+namespace detail {
+
+// Sorts faces into lexicographic order (the order std::sort gives) in linear time: by first corner
+// with a counting sort, then each first corner's few faces by the other two. First corners out of
+// [0, vertex_count) (which validation rejects later) get a bucket before and one after the others.
+// A comparison sort of 4.4M faces took 0.15 s.
+inline void sortFacesByCorners(std::vector<Face> &faces, int vertex_count) {
+  const long count = long(faces.size());
+  if (count < 2) return;
+  // Bucket 0: first corner below 0; 1 + c: first corner c; vertex_count + 1: the rest.
+  auto bucket = [&](const Face &f) -> size_t {
+    return f[0] < 0 ? 0 : f[0] < vertex_count ? size_t(f[0]) + 1 : size_t(vertex_count) + 1;
+  };
+  const size_t buckets = size_t(vertex_count) + 2;
+  std::vector<long> start(buckets + 1, 0);
+  for (const Face &f : faces) ++start[bucket(f) + 1];
+  for (size_t k = 1; k <= buckets; ++k) start[k] += start[k - 1];
+  std::vector<Face> sorted(faces.size());
+  {
+    std::vector<long> at(start.begin(), start.end() - 1);
+    for (const Face &f : faces) sorted[size_t(at[bucket(f)]++)] = f;
+  }
+  faces.swap(sorted);
+  const long bucket_count = long(buckets);
+#pragma omp parallel for schedule(static) if (bucket_count >= min_parallel_vertices)
+  for (long k = 0; k < bucket_count; ++k)
+    if (start[size_t(k) + 1] - start[size_t(k)] > 1)
+      std::sort(faces.begin() + start[size_t(k)], faces.begin() + start[size_t(k) + 1]);
+}
+
+} // namespace detail
+
 // Renumbers `mesh` in place: vertices along the Morton curve, faces' corners renumbered and
 // rotated to start at the lowest (orientation kept), faces sorted; the selection, the mesh slots
 // and the slot map follow. Returns the map from the new vertex index to the old one.
 inline std::vector<int> putInSpatialOrder(MeshArrays &mesh) {
   const int n = int(mesh.points.size());
   std::vector<int> input_of = mortonOrder(mesh.points);
-  {
-    std::vector<Vec3> points(n);
-    for (int v = 0; v < n; ++v) points[v] = mesh.points[input_of[v]];
-    mesh.points.swap(points);
-  }
+  // Every loop writes each element once from other arrays: in parallel (2.2M vertices: the
+  // renumbering took a third of a second on one thread, most of it waiting on scattered reads).
   auto permute = [&](auto &values) {
     if (values.size() != size_t(n)) return;
     std::remove_reference_t<decltype(values)> out(n);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
     for (int v = 0; v < n; ++v) out[v] = values[input_of[v]];
     values.swap(out);
   };
+  permute(mesh.points);
   permute(mesh.selected);
   permute(mesh.mesh_slot);
   std::vector<int> new_of(n);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
   for (int v = 0; v < n; ++v) new_of[input_of[v]] = v;
-  for (int &c : mesh.compact_index)
+  const long slot_count = long(mesh.compact_index.size());
+#pragma omp parallel for schedule(static) if (slot_count >= min_parallel_vertices)
+  for (long i = 0; i < slot_count; ++i) {
+    int &c = mesh.compact_index[i];
     if (c >= 0 && c < n) c = new_of[c];
-  for (Face &f : mesh.faces) {
+  }
+  const long face_count = long(mesh.faces.size());
+#pragma omp parallel for schedule(static) if (face_count >= min_parallel_vertices)
+  for (long i = 0; i < face_count; ++i) {
+    const Face &f = mesh.faces[i];
     Face g = {new_of[f[0]], new_of[f[1]], new_of[f[2]]};
     std::rotate(g.begin(), std::min_element(g.begin(), g.end()), g.end());
-    f = g;
+    mesh.faces[i] = g;
   }
-  detail::parallelSort(mesh.faces);
+  detail::sortFacesByCorners(mesh.faces, n);
   mesh.spatially_ordered = true;
   return input_of;
 }

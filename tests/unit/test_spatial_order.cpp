@@ -284,3 +284,31 @@ TEST(ParallelSort, GivesStdSortsSequenceForShuffledSortedAndNearlySortedInput) {
   vcg_ext::detail::parallelSort(values);
   EXPECT_TRUE(values == expected);
 }
+
+// sortFacesByCorners: std::sort's sequence in linear time, with repeated faces, first corners
+// spread unevenly, and first corners out of range on either side, for 1 and 2 threads.
+TEST(SortFacesByCorners, GivesStdSortsSequence) {
+  std::mt19937 random(11);
+  const int n = 30000;
+  std::vector<Face> faces(100000);
+  for (Face &f : faces) {
+    const int a = int(random() % (n / 3)); // many faces per first corner
+    f = {a, int(random() % n), int(random() % n)};
+  }
+  faces[10] = faces[20];                            // a repeated face
+  faces[30] = {-1, 5, 7}, faces[31] = {-3, 2, 2};   // out of range below
+  faces[40] = {n, 1, 2}, faces[41] = {n + 5, 0, 0}; // and above
+  std::vector<Face> expected = faces;
+  std::sort(expected.begin(), expected.end());
+  const int saved_threads = omp_get_max_threads();
+  const int saved = min_parallel_vertices;
+  min_parallel_vertices = 1000;
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    std::vector<Face> got = faces;
+    detail::sortFacesByCorners(got, n);
+    EXPECT_TRUE(got == expected) << threads << " threads";
+  }
+  min_parallel_vertices = saved;
+  omp_set_num_threads(saved_threads);
+}
