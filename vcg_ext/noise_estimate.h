@@ -26,7 +26,8 @@
 // Scale: every length is in mean edge lengths (positions are shifted to the bounding box corner and
 // divided by the mean edge length first). Order: the probe's values hash each vertex's position
 // (band_shrink.h), every quantity is per vertex or per face, then a median: the result does not
-// depend on vertex order or thread count, up to the rounding of the neighbour sums.
+// depend on the thread count, nor on the vertex order up to the rounding of the neighbour sums
+// (the probe runs in single precision: its figures agree to float rounding).
 #pragma once
 
 #include "band_shrink.h"
@@ -49,7 +50,8 @@ struct NoiseEstimateParams {
   double max_decay = 0.85;
   double min_drop_deg = 3.0;
   double noisy_spread_deg = 50.0;
-  // Band edges in Taubin pairs of the white-equivalent spectrum.
+  // Band edges in Taubin pairs of the white-equivalent spectrum. They start 0, 1: the first band
+  // is the decision's pair, run once for both (other edges give the decision without a spectrum).
   std::vector<int> band_pairs = {0, 1, 2, 4, 8};
 };
 
