@@ -151,7 +151,7 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
     }
     detail::eraseNaN(noise);
     probe_median[b] = detail::medianOf(noise);
-    std::vector<double>().swap(noise);
+    std::vector<double>().swap(noise); // (freed: the mesh's snapshots are held meanwhile)
   };
 
   // The decision: the spread before and after one pair (the probe's first band in the same run).

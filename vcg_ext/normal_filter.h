@@ -344,46 +344,35 @@ inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
 // `fixed[v]` != 0 stay (frozen, unselected); they still pull on their neighbours. A boundary vertex
 // is smoothed along its boundary curve only, from its two boundary neighbours (`curve[v]`, −1 where
 // absent: then it stays), so an open boundary is denoised without being pulled inward.
-// taubinSmoothFields runs the steps on several fields at once (one pass over the rings for all),
-// taubinSmooth on one.
-inline void taubinSmoothFields(const std::vector<std::vector<Vec3> *> &fields, const Rings &rings,
-                               const std::vector<std::uint8_t> &fixed,
-                               const std::vector<std::array<int, 2>> &curve, int pairs,
-                               double lambda = 0.5, double mu = -0.53) {
-  const int n = rings.vertex_count, count = int(fields.size());
+// (Several fields at once, or long runs on large meshes: SpatialTaubin, the same bits.)
+inline void taubinSmooth(std::vector<Vec3> &points, const Rings &rings,
+                         const std::vector<std::uint8_t> &fixed,
+                         const std::vector<std::array<int, 2>> &curve, int pairs,
+                         double lambda = 0.5, double mu = -0.53) {
+  const int n = rings.vertex_count;
   if (pairs <= 0) return;
-  std::vector<std::vector<Vec3>> next(count, std::vector<Vec3>(n));
+  std::vector<Vec3> next(n);
   for (int step = 0; step < 2 * pairs; ++step) {
     const double factor = step % 2 == 0 ? lambda : mu;
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
     for (int v = 0; v < n; ++v) {
       const bool still = fixed[v] || rings.ring1Size(v) == 0 ||
                          (rings.boundary[v] && (curve[v][0] < 0 || curve[v][1] < 0));
-      for (int k = 0; k < count; ++k) {
-        const std::vector<Vec3> &points = *fields[k];
-        if (still) {
-          next[k][v] = points[v];
-          continue;
-        }
-        Vec3 centre = Vec3::Zero();
-        if (rings.boundary[v]) {
-          centre = 0.5 * (points[curve[v][0]] + points[curve[v][1]]);
-        } else {
-          for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) centre += points[*w];
-          centre /= rings.ring1Size(v);
-        }
-        next[k][v] = points[v] + factor * (centre - points[v]);
+      if (still) {
+        next[v] = points[v];
+        continue;
       }
+      Vec3 centre = Vec3::Zero();
+      if (rings.boundary[v]) {
+        centre = 0.5 * (points[curve[v][0]] + points[curve[v][1]]);
+      } else {
+        for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) centre += points[*w];
+        centre /= rings.ring1Size(v);
+      }
+      next[v] = points[v] + factor * (centre - points[v]);
     }
-    for (int k = 0; k < count; ++k) fields[k]->swap(next[k]);
+    points.swap(next);
   }
-}
-
-inline void taubinSmooth(std::vector<Vec3> &points, const Rings &rings,
-                         const std::vector<std::uint8_t> &fixed,
-                         const std::vector<std::array<int, 2>> &curve, int pairs,
-                         double lambda = 0.5, double mu = -0.53) {
-  taubinSmoothFields({&points}, rings, fixed, curve, pairs, lambda, mu);
 }
 
 enum class NormalFilterKind {
