@@ -12,6 +12,7 @@
 #include "face_patches.h"
 #include "mesh_metrics.h"
 #include "noise_estimate.h"
+#include "noise_windows.h"
 #include "normal_filter.h"
 #include "spatial_order.h"
 #include "surface_analysis.h"
@@ -163,20 +164,29 @@ void readCommonParams(const MethodParams &p, DriverParams &d) {
   d.saliency_scale = p.saliency_scale;
 }
 
+// Where the estimate's medians ran: nothing for the whole mesh, else the windows' share of it.
+inline std::string sampledPhrase(const NoiseEstimate &noise) {
+  return noise.sampled_share < 1
+             ? formatLine(" (on windows: %.0f %% of the faces)", 100.0 * noise.sampled_share)
+             : std::string();
+}
+
 // What a user reads when a driver finds nothing to do.
 inline std::string measuredCleanPhrase(const NoiseEstimate &noise) {
-  return formatLine("the mesh measures as clean (dihedral spread %.1f deg, %.2f of it left after "
-                    "one Taubin pair; noise leaves at most %.2f): left as it is; set Iterations "
-                    "above 3 to smooth it anyway",
-                    noise.spread_deg, noise.decay, NoiseEstimateParams().max_decay);
+  return formatLine("the mesh measures as clean%s (dihedral spread %.1f deg, %.2f of it left "
+                    "after one Taubin pair; noise leaves at most %.2f): left as it is; set "
+                    "Iterations above 3 to smooth it anyway",
+                    sampledPhrase(noise).c_str(), noise.spread_deg, noise.decay,
+                    NoiseEstimateParams().max_decay);
 }
 
 // The noise estimate in the summary lines.
 inline std::string noisePhrase(const NoiseEstimate &noise, double roughness) {
-  return formatLine("noise estimate: dihedral spread %.1f deg (%.2f of it left after one Taubin "
+  return formatLine("noise estimate%s: dihedral spread %.1f deg (%.2f of it left after one Taubin "
                     "pair), level %.3f mean edge lengths (%.3f in the coarser bands), roughness "
                     "%.2f",
-                    noise.spread_deg, noise.decay, noise.level, noise.correlated_level, roughness);
+                    sampledPhrase(noise).c_str(), noise.spread_deg, noise.decay, noise.level,
+                    noise.correlated_level, roughness);
 }
 
 // After the strength in the summary lines: the heavy-tail factor when it acts on a noisy mesh
@@ -313,7 +323,10 @@ inline DriverSetup driverSetup(const MeshArrays &mesh, bool selected_only,
   }
   s.volume_before = signedVolume(mesh.points, mesh.faces);
   if (with_face_rings) {
-    s.noise = estimateNoise(mesh.points, mesh.faces, s.rings, s.face_rings, s.roles);
+    // Large meshes: on windows of the mesh (noise_windows.h); the input spread is then the
+    // windows' too.
+    if (!estimateNoiseOnWindows(mesh, s.rings, s.roles.frozen, s.stats.mean_edge_length, s.noise))
+      s.noise = estimateNoise(mesh.points, mesh.faces, s.rings, s.face_rings, s.roles);
     s.input_spread_deg = s.noise.spread_deg; // (0 without faces, as inputSpreadDeg reads it)
   }
   return s;

@@ -17,6 +17,7 @@
 #pragma once
 
 #include "driver_setup.h"
+#include "mesh_windows.h"
 #include "mode_choice.h"
 #include "normal_filter.h"
 #include "vertex_roles.h"
@@ -68,49 +69,6 @@ inline int windowMargin(const FirstPassCounts &counts, int stride) {
          (3 + std::max(0, counts.first.iterations)) + stride + 2;
 }
 
-// Ring distance of every vertex from the nearest seed (breadth first from all seeds), up to
-// `limit`; farther vertices read limit + 1.
-// `source` (optional): per vertex the index in `seeds` of the seed it was reached from first (a
-// frontier runs in seed order: the lowest index among equally near seeds), −1 beyond `limit`.
-inline std::vector<int> ringDistance(const Rings &rings, const std::vector<int> &seeds, int limit,
-                                     std::vector<int> *source = nullptr) {
-  std::vector<int> distance(rings.vertex_count, limit + 1), frontier, next;
-  if (source) source->assign(rings.vertex_count, -1);
-  for (size_t i = 0; i < seeds.size(); ++i)
-    if (distance[seeds[i]] > 0) {
-      distance[seeds[i]] = 0, frontier.push_back(seeds[i]);
-      if (source) (*source)[seeds[i]] = int(i);
-    }
-  for (int depth = 1; depth <= limit && !frontier.empty(); ++depth) {
-    next.clear();
-    for (int v : frontier)
-      for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w)
-        if (distance[*w] > depth) {
-          distance[*w] = depth, next.push_back(*w);
-          if (source) (*source)[*w] = (*source)[v];
-        }
-    frontier.swap(next);
-  }
-  return distance;
-}
-
-// One seed per equal run of the vertex order (the spatial order: runs are regions), the run's
-// middle vertex or the next one after it that has faces and may move.
-inline std::vector<int> windowSeeds(const Rings &rings, const std::vector<std::uint8_t> &fixed,
-                                    int windows) {
-  const long n = rings.vertex_count;
-  std::vector<int> seeds;
-  for (long w = 0; w < windows && n > 0; ++w) {
-    const long begin = w * n / windows, end = (w + 1) * n / windows;
-    for (long v = (begin + end) / 2; v < end; ++v)
-      if (!fixed[v] && rings.ring1Size(int(v)) > 0) {
-        seeds.push_back(int(v));
-        break;
-      }
-  }
-  return seeds;
-}
-
 // The standard error of a pooled share `pooled` = Σ n_k s_k / Σ n_k from the windows' shares s_k
 // and counts n_k (a ratio estimator over a sample of windows).
 inline double pooledShareError(const std::vector<double> &share, const std::vector<double> &count,
@@ -128,48 +86,6 @@ inline double pooledShareError(const std::vector<double> &share, const std::vect
 }
 
 } // namespace detail
-
-// The windows as one mesh: the faces whose corners all lie within `reach` rings of a seed, in
-// the mesh's order, over their vertices in the mesh's order.
-struct MeshWindows {
-  MeshArrays mesh;
-  std::vector<int> face;            // window face -> mesh face
-  std::vector<std::uint8_t> fixed;  // the mesh's movable flags, per window vertex
-  std::vector<std::uint8_t> core;   // per window face: its corners within the core rings
-  std::vector<int> window;          // per window face: the seed its first corner was reached from
-};
-
-// With the ring distances and sources of ringDistance(rings, seeds, reach, &source) given.
-inline MeshWindows meshWindows(const MeshArrays &mesh, const std::vector<std::uint8_t> &fixed,
-                               const std::vector<int> &distance, const std::vector<int> &source,
-                               int core_rings, int reach) {
-  MeshWindows w;
-  std::vector<int> local(mesh.points.size(), -1);
-  for (size_t v = 0; v < mesh.points.size(); ++v)
-    if (distance[v] <= reach) {
-      local[v] = int(w.mesh.points.size());
-      w.mesh.points.push_back(mesh.points[v]);
-      w.fixed.push_back(fixed[v]);
-    }
-  for (size_t g = 0; g < mesh.faces.size(); ++g) {
-    const Face &f = mesh.faces[g];
-    if (local[f[0]] < 0 || local[f[1]] < 0 || local[f[2]] < 0) continue;
-    w.face.push_back(int(g));
-    w.mesh.faces.push_back({local[f[0]], local[f[1]], local[f[2]]});
-    w.core.push_back(distance[f[0]] <= core_rings && distance[f[1]] <= core_rings &&
-                     distance[f[2]] <= core_rings);
-    w.window.push_back(source[f[0]]);
-  }
-  return w;
-}
-
-inline MeshWindows meshWindows(const MeshArrays &mesh, const Rings &rings,
-                               const std::vector<std::uint8_t> &fixed, const std::vector<int> &seeds,
-                               int core_rings, int reach) {
-  std::vector<int> source;
-  const std::vector<int> distance = detail::ringDistance(rings, seeds, reach, &source);
-  return meshWindows(mesh, fixed, distance, source, core_rings, reach);
-}
 
 // The first pass's filtered and reference face normals of `mesh` (FirstPassCounts); `fixed` and
 // `roles` as DriverSetup has them, `edge` the mean edge length the filter's kernel reads.

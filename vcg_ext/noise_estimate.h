@@ -70,6 +70,9 @@ struct NoiseEstimate {
   // The finest band's root mean square over its median's normal std (median / 0.6745): 1 for
   // Gaussian noise, above it for heavy-tailed noise (heavyTailFactor).
   double tail = 1;
+  // The share of the mesh's faces the spread's medians counted: 1, or the windows' cores on a
+  // large mesh (noise_windows.h).
+  double sampled_share = 1;
 };
 
 namespace detail {
@@ -79,37 +82,54 @@ inline double medianOf(std::vector<double> &values) {
   return kthSmallest(values, values.size() / 2);
 }
 
-// Median dihedral spread of `points` (a FaceRings built once, shared by the calls).
+// Median dihedral spread of `points` (a FaceRings built once, shared by the calls) over the
+// faces `counted` marks (null: all).
 inline double spreadOf(const std::vector<Vec3> &points, const std::vector<Face> &faces,
-                       const FaceRings &face_rings) {
+                       const FaceRings &face_rings,
+                       const std::vector<std::uint8_t> *counted = nullptr) {
   std::vector<Vec3> normals;
   computeFaceNormals(points, faces, normals);
-  return medianDihedralSpreadDeg(points, faces, normals, face_rings);
+  return medianDihedralSpreadDeg(points, faces, normals, face_rings, counted);
 }
 
-} // namespace detail
+// The frame every length of the estimate is in: positions from the lowest corner of the faces'
+// vertices, in mean edge lengths (the probe's hash reads positions in it).
+struct NoiseFrame {
+  Vec3 lowest = Vec3::Zero();
+  double edge = 0;
+};
 
-// Measures `points` / `faces` with their topology (the drivers' DriverSetup has it): see the file
-// comment. Empty or degenerate input: clean, level 0.
-inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::vector<Face> &faces,
-                                   const Rings &rings, const FaceRings &face_rings,
-                                   const detail::VertexRoles &roles,
-                                   const NoiseEstimateParams &params = {}) {
+inline NoiseFrame noiseFrame(const std::vector<Vec3> &points, const Rings &rings, double edge) {
+  NoiseFrame frame;
+  frame.edge = edge;
+  Vec3 lowest = Vec3::Constant(INFINITY);
+  for (int v = 0; v < rings.vertex_count; ++v)
+    if (rings.ring1Size(v) > 0) lowest = lowest.cwiseMin(points[v]);
+  frame.lowest = lowest;
+  return frame;
+}
+
+// The estimate of the file comment in `frame`, its medians over the vertices and faces that
+// `counted_vertices` / `counted_faces` mark (null: all): a part of a larger mesh (noise_windows.h)
+// reads, on the elements it counts, the larger mesh's values when its margins are wide enough.
+inline NoiseEstimate measureNoise(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                  const Rings &rings, const FaceRings &face_rings,
+                                  const detail::VertexRoles &roles, const NoiseFrame &frame,
+                                  const std::vector<std::uint8_t> *counted_vertices,
+                                  const std::vector<std::uint8_t> *counted_faces,
+                                  const NoiseEstimateParams &params) {
   NoiseEstimate out;
   const int n = int(points.size());
   if (n == 0 || faces.empty()) return out;
   // The input's spread on its own coordinates (angles do not scale): the drivers reuse it
   // (driver_setup.h), so it is measured before anything can stop the estimate.
-  out.spread_deg = detail::spreadOf(points, faces, face_rings);
-  const double edge = edgeStatistics(points, rings).mean_edge_length;
+  out.spread_deg = detail::spreadOf(points, faces, face_rings, counted_faces);
+  const double edge = frame.edge;
   out.mean_edge_length = edge;
   if (!(edge > 0) || !std::isfinite(edge)) return out;
 
-  // Positions in mean edge lengths from the lowest corner of the faces' vertices.
   MeshArrays mesh;
-  Vec3 lowest = Vec3::Constant(INFINITY);
-  for (int v = 0; v < n; ++v)
-    if (rings.ring1Size(v) > 0) lowest = lowest.cwiseMin(points[v]);
+  const Vec3 lowest = frame.lowest;
   mesh.points.resize(n);
   for (int v = 0; v < n; ++v)
     mesh.points[v] = rings.ring1Size(v) > 0 ? Vec3((points[v] - lowest) / edge) : Vec3::Zero();
@@ -139,7 +159,8 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
   // displacement is not usable, which is read only after its last snapshot).
   std::vector<std::uint8_t> interior(n);
   for (int v = 0; v < n; ++v)
-    interior[v] = !roles.frozen[v] && !rings.boundary[v] && rings.ring1Size(v) > 0;
+    interior[v] = !roles.frozen[v] && !rings.boundary[v] && rings.ring1Size(v) > 0 &&
+                  (!counted_vertices || (*counted_vertices)[v]);
   std::vector<double> probe_median(std::max(bands, 0), 0.0), noise;
   auto probe_band = [&](int b) {
     noise.assign(3 * size_t(n), NAN);
@@ -163,7 +184,7 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
   } else {
     taubin.smooth({&smoothed}, 1, lambda, mu);
   }
-  out.smoothed_spread_deg = detail::spreadOf(smoothed, faces, face_rings);
+  out.smoothed_spread_deg = detail::spreadOf(smoothed, faces, face_rings, counted_faces);
   // A spread of a few hundredths of a degree is a flat mesh: its ratio says nothing.
   out.decay = out.spread_deg > 0.01 ? out.smoothed_spread_deg / out.spread_deg : 1.0;
   out.noisy = out.spread_deg >= params.noisy_spread_deg ||
@@ -217,6 +238,20 @@ inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::v
   out.level = out.spectrum[0];
   out.correlated_level = *std::max_element(out.spectrum.begin(), out.spectrum.end());
   return out;
+}
+
+} // namespace detail
+
+// Measures `points` / `faces` with their topology (the drivers' DriverSetup has it): see the file
+// comment. Empty or degenerate input: clean, level 0.
+inline NoiseEstimate estimateNoise(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                   const Rings &rings, const FaceRings &face_rings,
+                                   const detail::VertexRoles &roles,
+                                   const NoiseEstimateParams &params = {}) {
+  return detail::measureNoise(points, faces, rings, face_rings, roles,
+                              detail::noiseFrame(points, rings,
+                                                 edgeStatistics(points, rings).mean_edge_length),
+                              nullptr, nullptr, params);
 }
 
 // The same, building the topology itself.

@@ -280,9 +280,10 @@ inline double kthSmallest(std::vector<double> &values, size_t k,
 inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
                                       const std::vector<Face> &faces,
                                       const std::vector<Vec3> &face_normals,
-                                      const FaceRings &face_rings) {
-  // Per face in parallel (NaN: a face without three usable neighbours), then gathered in face
-  // order, so the median does not depend on the thread count. Each edge's angle is computed once,
+                                      const FaceRings &face_rings,
+                                      const std::vector<std::uint8_t> *counted = nullptr) {
+  // Per face in parallel (NaN: a face without three usable neighbours, or one that `counted`
+  // leaves out), then gathered in face order, so the median does not depend on the thread count. Each edge's angle is computed once,
   // by the lower-numbered of its two faces, when the other face runs the edge the other way
   // (consistently oriented neighbours): seen from either face the angle's arguments are the same
   // numbers (the cross product and the edge change sign together), so the higher-numbered face
@@ -331,7 +332,7 @@ inline double medianDihedralSpreadDeg(const std::vector<Vec3> &points,
       lo = std::min(lo, a);
       hi = std::max(hi, a);
     }
-    spreads[f] = complete ? hi - lo : NAN;
+    spreads[f] = complete && (!counted || (*counted)[f]) ? hi - lo : NAN;
   }
   std::vector<std::array<double, 3>>().swap(angle);
   std::vector<std::array<std::int8_t, 3>>().swap(shared);
