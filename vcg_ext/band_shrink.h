@@ -48,6 +48,9 @@
 namespace vcg_ext {
 
 struct BandShrinkParams {
+  // The mesh is in spatial order already (the drivers' meshes: spatial_order.h): the Taubin runs
+  // keep its numbering instead of sorting it along a Morton curve again (the same bits either way).
+  bool given_order = false;
   // Band edges in Taubin pairs; the last one is the coarse base, kept whole.
   std::vector<int> band_pairs = {0, 1, 2, 4, 8, 16, 32, 64, 128};
   // Taubin's λ|μ. A pair multiplies the frequencies just below its pass band by up to
@@ -332,7 +335,7 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   };
   // The scale space and the probe's, one Taubin run for both; the probe's bands are consumed at
   // once. Both live in the renumbered order of `taubin`; every sum below runs in vertex order.
-  const SpatialTaubin taubin(points, rings, fixed, curve);
+  const SpatialTaubin taubin(points, rings, fixed, curve, params.given_order);
   std::vector<std::uint8_t> counted(n);
   long count = 0;
   for (int v = 0; v < n; ++v) {

@@ -148,6 +148,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     // The band shrinkage, this mode's peak memory, reads no face rings, nor does the patch update
     // (its fit merges each face's ring when it needs it): ~136 bytes per vertex freed.
     setup.face_rings = FaceRings();
+    bands.given_order = true; // (inSpatialOrder)
     report.bands = bandShrinkSmooth(current, mesh.faces, rings, fixed, roles.boundary_neighbours,
                                     bands, [&](double fraction) {
                                       return !progress ||
