@@ -374,8 +374,8 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   // order after: the bits of the serial loops (which were a serial tenth of the band shrinkage at
   // 2.2M vertices, and grew `values` by doubling, fresh pages each time).
   std::vector<double> term(n, 0.0);
-  std::vector<long> slot(n, -1);
-  for (long v = 0, next_slot = 0; v < n; ++v)
+  std::vector<int> slot(n, -1);
+  for (int v = 0, next_slot = 0; v < n; ++v)
     if (counted[v]) slot[v] = next_slot++;
   // Mean of the values below the robust quantile (reorders x).
   auto trimmed_mean = [&](std::vector<double> &x) {
@@ -428,7 +428,8 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
         const Vec3 difference = probe_previous[l].cast<double>() - probe[l].cast<double>();
         term[v] = difference.squaredNorm() / 3.0;
         if (trim)
-          for (int k = 0; k < 3; ++k) values[3 * slot[v] + k] = difference[k] * difference[k];
+          for (int k = 0; k < 3; ++k)
+            values[3 * size_t(slot[v]) + k] = difference[k] * difference[k];
       }
     for (int v = 0; v < n; ++v)
       if (counted[v]) noise_energy[b] += term[v];
