@@ -68,7 +68,7 @@ public:
     auto &handle = handles_[k];
     const long count = long(values.size());
     long clamped_here = 0;
-#pragma omp parallel for schedule(static) reduction(+ : clamped_here) if (count >= 20000)
+#pragma omp parallel for schedule(static) reduction(+ : clamped_here) if (count >= vcg_ext::min_parallel_vertices)
     for (long c = 0; c < count; ++c)
       handle[arrays.mesh_slot[c]] = storable<Scalar>(values[c], clamped_here);
     clamped += clamped_here;
@@ -108,7 +108,7 @@ bool storeQuality(MeshType &m, const vcg_ext::MeshArrays &arrays,
   using Scalar = typename MeshType::VertexType::QualityType;
   long clamped = 0; // counted with the attributes
   const long count = long(values.size());
-#pragma omp parallel for schedule(static) reduction(+ : clamped) if (count >= 20000)
+#pragma omp parallel for schedule(static) reduction(+ : clamped) if (count >= vcg_ext::min_parallel_vertices)
   for (long c = 0; c < count; ++c)
     m.vert[arrays.mesh_slot[c]].Q() = storable<Scalar>(values[c], clamped);
   if (!color || !vcg::tri::HasPerVertexColor(m) || values.empty()) return false;

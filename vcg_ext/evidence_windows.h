@@ -195,16 +195,9 @@ inline WindowedEvidence windowedEvidence(const MeshArrays &mesh, const detail::D
   // How much the windows take, before building them.
   std::vector<int> source;
   const std::vector<int> distance = detail::ringDistance(setup.rings, seeds, reach, &source);
-  {
-    const int m = int(mesh.faces.size());
-    long faces = 0;
-#pragma omp parallel for schedule(static) reduction(+ : faces) if (m >= min_parallel_vertices)
-    for (int g = 0; g < m; ++g) {
-      const Face &f = mesh.faces[g];
-      faces += distance[f[0]] <= reach && distance[f[1]] <= reach && distance[f[2]] <= reach;
-    }
-    if (double(faces) > params.max_face_share * double(m)) return out;
-  }
+  if (double(detail::windowFaceCount(mesh.faces, distance, reach)) >
+      params.max_face_share * double(mesh.faces.size()))
+    return out;
   const MeshWindows w =
       meshWindows(mesh, setup.fixed, distance, source, params.core_rings, reach);
   const Rings rings = computeRings(int(w.mesh.points.size()), w.mesh.faces, false);

@@ -61,6 +61,21 @@ inline std::vector<int> windowSeeds(const Rings &rings, const std::vector<std::u
   return seeds;
 }
 
+// How many faces windows of `reach` rings would hold (all corners within reach of a seed), from
+// the distances of ringDistance: counted before building them, to refuse windows that would take
+// most of the mesh.
+inline long windowFaceCount(const std::vector<Face> &faces, const std::vector<int> &distance,
+                            int reach) {
+  const long m = long(faces.size());
+  long taken = 0;
+#pragma omp parallel for schedule(static) reduction(+ : taken) if (m >= min_parallel_vertices)
+  for (long g = 0; g < m; ++g) {
+    const Face &f = faces[g];
+    taken += distance[f[0]] <= reach && distance[f[1]] <= reach && distance[f[2]] <= reach;
+  }
+  return taken;
+}
+
 } // namespace detail
 
 // The windows as one mesh: the faces whose corners all lie within `reach` rings of a seed, in

@@ -55,13 +55,9 @@ inline bool estimateNoiseOnWindows(const MeshArrays &mesh, const Rings &rings,
   if (long(seeds.size()) < windows.min_windows) return false;
   std::vector<int> source;
   const std::vector<int> distance = detail::ringDistance(rings, seeds, reach, &source);
-  long taken = 0;
-#pragma omp parallel for schedule(static) reduction(+ : taken) if (m >= min_parallel_vertices)
-  for (long g = 0; g < m; ++g) {
-    const Face &f = mesh.faces[g];
-    taken += distance[f[0]] <= reach && distance[f[1]] <= reach && distance[f[2]] <= reach;
-  }
-  if (double(taken) > windows.max_face_share * double(m)) return false;
+  if (double(detail::windowFaceCount(mesh.faces, distance, reach)) >
+      windows.max_face_share * double(m))
+    return false;
 
   const MeshWindows w = meshWindows(mesh, fixed, distance, source, windows.core_rings, reach);
   const Rings window_rings = computeRings(int(w.mesh.points.size()), w.mesh.faces, false);

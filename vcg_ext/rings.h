@@ -40,12 +40,7 @@ struct Rings {
   const int *facesEnd(int v) const { return faces.data() + face_offsets[v + 1]; }
 };
 
-// Below this many vertices the stages run on one thread: a parallel region then costs about what
-// its work does, and on a busy machine a region waits for a descheduled thread (measured on a
-// 9.8k-vertex mesh under load: the whole filter 0.30 s on one thread, 0.84 s on two). Results do
-// not depend on the thread count either way. (A variable so that the unit tests can run their
-// small meshes through the parallel paths: tests/unit/test_saliency_lattice.cpp sets it to 0.)
-inline int min_parallel_vertices = 20000;
+// (min_parallel_vertices: mesh_arrays.h)
 
 // The stages whose work per element is a microsecond or more (the patch fits and the vertices'
 // moves onto the patches, the saliency's exact sums and lattice chains, the curvature fits) run

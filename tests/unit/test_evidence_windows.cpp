@@ -122,3 +122,16 @@ TEST(EvidenceWindows, SeedsAreSpreadOverTheVertexOrderAndSkipFixedVertices) {
   const std::vector<int> seeds = detail::windowSeeds(rings, fixed, 4);
   EXPECT_EQ(seeds, (std::vector<int>{81, 240, 401, 561}));
 }
+
+TEST(EvidenceWindows, WindowFaceCountTakesTheFacesWithEveryCornerWithinReach) {
+  // Around an icosahedron corner (valence 5, its neighbours regular at this subdivision): no face
+  // has every corner at distance 0; its own five faces lie within one ring; within two, each of
+  // its five sectors holds 1 + 3 triangles.
+  const MeshArrays sphere = test_meshes::icosphere(1.0, 2);
+  const Rings rings = computeRings(int(sphere.points.size()), sphere.faces);
+  ASSERT_EQ(rings.ring1Size(0), 5);
+  const std::vector<int> distance = detail::ringDistance(rings, {0}, 3);
+  EXPECT_EQ(detail::windowFaceCount(sphere.faces, distance, 0), 0);
+  EXPECT_EQ(detail::windowFaceCount(sphere.faces, distance, 1), 5);
+  EXPECT_EQ(detail::windowFaceCount(sphere.faces, distance, 2), 20);
+}
