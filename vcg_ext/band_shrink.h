@@ -113,12 +113,16 @@ struct BandShrinkParams {
   // θ: 14.99 unlimited, 15.08 at 32, 15.19 at 16). bench/FEATURE_MODE.md.
   int boundary_pairs = 32;
   // Bands of many pairs as a Chebyshev series (taubin_chebyshev.h) instead of pair by pair,
-  // truncated where the left-out coefficients sum to at most this (times the field's extent):
-  // at 1e-6 the bands of 16-128 pairs take 90 instead of 126 step-equivalents (band shrinkage
-  // 0.138 -> 0.119 s on the 100k scale mesh), while θ moves by at most 6e-6° on the scanner,
-  // light-noise and public cases (1e-10: the pair-by-pair result to its rounding; 1e-4: 0.005°).
+  // truncated where the left-out coefficients sum to at most this, their sum at p = 1 moved to
+  // c_0 (exact on the shape's smooth part). At 1e-4 the bands of 8-128 pairs take 57 operator
+  // applications (10, 12, 16, 19) instead of their 240 steps; the earlier 1e-6 without the
+  // correction took 64 for 16-128 pairs and ran the 8-16 band's 16 steps. Against the
+  // pair-by-pair result (1e-10) vertices differ by at most 4e-3 mean edge lengths (root mean
+  // square 2e-4 to 6e-4) and θ by at most 0.002° on four scanner-noise cases and the 2.2M scale
+  // mesh; 1e-6 without the correction: up to 1e-3 (rms 5e-6 to 4e-4, the most on the largest
+  // mesh, whose extent its error scaled with). bench/PERFORMANCE.md, twelfth pass.
   bool chebyshev = true;
-  double chebyshev_tolerance = 1e-6;
+  double chebyshev_tolerance = 1e-4;
   // Probes for the fine band (the first is the whole-run probe; the others run only up to the
   // band's upper edge, a few pairs): α hangs on that band's ratio, whose spread shrinks with the
   // number of probe values. So the count follows the mesh size: enough probes for
@@ -395,9 +399,8 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   taubin.smooth({&coarse}, {&probe}, edges[0], lambda, mu);
   if (normal_at == 0) take_normals();
   for (int b = 0; b < bands; ++b) {
-    // Long bands as a Chebyshev series of their pairs (taubin_chebyshev.h): the three coarsest
-    // bands' 224 steps in 64 operator applications, within chebyshev_tolerance of the field's
-    // extent.
+    // Long bands as a Chebyshev series of their pairs (taubin_chebyshev.h): the four coarsest
+    // bands' 240 steps in 57 operator applications (BandShrinkParams::chebyshev_tolerance).
     const int pairs = edges[b + 1] - edges[b];
     const std::vector<double> series =
         params.chebyshev
