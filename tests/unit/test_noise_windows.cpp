@@ -137,3 +137,23 @@ TEST(NoiseWindows, SmallMeshesAreLeftToTheWholeMeshEstimate) {
                                       big_edge, untouched, wide));
   EXPECT_EQ(untouched.level, -1);
 }
+
+// The sample's size has a ceiling (NoiseWindowParams::max_windows): past it a larger mesh takes
+// the same number of windows, a smaller share of its faces, and reads about the same level.
+TEST(NoiseWindows, AtMostMaxWindowsTakeTheirCoresAsTheSample) {
+  const MeshArrays sphere = noisySphere();
+  const int n = int(sphere.points.size());
+  const Rings rings = computeRings(n, sphere.faces);
+  const double edge = edgeStatistics(sphere.points, rings).mean_edge_length;
+  const detail::VertexRoles roles = detail::vertexRoles(sphere, rings, edge);
+  NoiseWindowParams params = smallWindows();
+  NoiseEstimate all, capped;
+  ASSERT_TRUE(estimateNoiseOnWindows(sphere, rings, roles.frozen, edge, all, params));
+  params.max_windows = 4;
+  ASSERT_TRUE(estimateNoiseOnWindows(sphere, rings, roles.frozen, edge, capped, params));
+  // 6 windows, then 4 (their cores do not overlap on this sphere: the share falls by a third).
+  EXPECT_NEAR(capped.sampled_share / all.sampled_share, 4.0 / 6.0, 0.05);
+  EXPECT_NEAR(capped.level / all.level, 1.0, 0.05);
+  params.max_windows = 3; // under min_windows: the whole mesh's estimate instead
+  EXPECT_FALSE(estimateNoiseOnWindows(sphere, rings, roles.frozen, edge, capped, params));
+}
