@@ -395,7 +395,12 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   auto trim_band = [&](int b) { return robust && edges[b + 1] <= params.robust_max_pairs; };
   const auto normal_at =
       std::find(edges.begin(), edges.end(), params.normal_pairs) - edges.begin();
-  auto take_normals = [&] { computeVertexNormals(taubin.toGlobal(coarse), faces, rings, normals); };
+  auto take_normals = [&] {
+    if (params.given_order) // local order is the mesh's: no copy
+      computeVertexNormals(coarse, faces, rings, normals);
+    else
+      computeVertexNormals(taubin.toGlobal(coarse), faces, rings, normals);
+  };
   taubin.smooth({&coarse}, {&probe}, edges[0], lambda, mu);
   if (normal_at == 0) take_normals();
   for (int b = 0; b < bands; ++b) {
@@ -508,6 +513,7 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   }
   std::vector<Vec3f>().swap(probe);
   std::vector<Vec3f>().swap(probe_previous);
+  taubin.releaseBuffers(); // no more steps: the local gains' arrays can take their memory
   const std::vector<std::vector<float>> local =
       detail::localBandGains(taubin, rings, band, normals, counted, noise_energy, count, report.alpha,
                              params, report.gains);

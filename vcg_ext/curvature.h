@@ -33,51 +33,45 @@ struct CurvatureField {       // per vertex, compact order
   std::vector<Vec3> dir1, dir2; // unit principal directions in the tangent plane (dir1 for k1)
 };
 
+namespace detail {
+// Vertex v's face-area-weighted normal: the sum of its faces' cross products (whose lengths are
+// twice their areas), in the order of its face list, normalised; zero where they have no area.
+inline Vec3 vertexNormalAt(int v, const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                           const Rings &rings) {
+  Vec3 sum = Vec3::Zero();
+  for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) {
+    const Face &t = faces[*f];
+    sum += (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
+  }
+  const double length = sum.norm();
+  return (length > 0 && std::isfinite(length)) ? Vec3(sum / length) : Vec3::Zero();
+}
+} // namespace detail
+
 // Face-area-weighted vertex normals (paper 3.1). Zero where the incident faces have no area.
-// Each face's cross product is computed once, then every vertex gathers its faces' (in face order:
-// the same sums as crossing them per vertex, with a third of the work).
+// Each vertex crosses its own faces' edges (every face three times) rather than gathering them
+// from a per-face array: the same bits, no 24 bytes per face to allocate (fresh pages at the
+// band shrinkage's peak), and faster on large meshes, where the gather waited on memory (2.2M
+// vertices: 0.04 s against 0.05-0.3 s).
 inline void computeVertexNormals(const std::vector<Vec3> &points, const std::vector<Face> &faces,
                                  const Rings &rings, std::vector<Vec3> &normals) {
-  const int n = rings.vertex_count, face_count = int(faces.size());
+  const int n = rings.vertex_count;
   normals.resize(n);
-  std::vector<Vec3> face_cross(face_count);
-#pragma omp parallel if (n >= min_parallel_vertices)
-  {
-#pragma omp for schedule(static)
-    for (int f = 0; f < face_count; ++f) {
-      const Face &t = faces[f];
-      // The cross product's length is twice the face area: the weighting comes for free.
-      face_cross[f] = (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
-    }
-#pragma omp for schedule(static)
-    for (int v = 0; v < n; ++v) {
-      Vec3 sum = Vec3::Zero();
-      for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) sum += face_cross[*f];
-      const double length = sum.norm();
-      normals[v] = (length > 0 && std::isfinite(length)) ? Vec3(sum / length) : Vec3::Zero();
-    }
-  }
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+  for (int v = 0; v < n; ++v) normals[v] = detail::vertexNormalAt(v, points, faces, rings);
 }
 
-// computeVertexNormals at the boundary vertices only, the same values to the bit (each face's
-// cross product computed where it is summed); the other entries are left as they are. What the
-// boundary moves of the drivers need, without a pass over every face per vertex update.
+// computeVertexNormals at the boundary vertices only (the same values); the other entries are left
+// as they are. What the boundary moves of the drivers need, without a pass over every vertex's
+// faces per vertex update.
 inline void computeBoundaryVertexNormals(const std::vector<Vec3> &points,
                                          const std::vector<Face> &faces, const Rings &rings,
                                          std::vector<Vec3> &normals) {
   const int n = rings.vertex_count;
   normals.resize(n);
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
-  for (int v = 0; v < n; ++v) {
-    if (!rings.boundary[v]) continue;
-    Vec3 sum = Vec3::Zero();
-    for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) {
-      const Face &t = faces[*f];
-      sum += (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
-    }
-    const double length = sum.norm();
-    normals[v] = (length > 0 && std::isfinite(length)) ? Vec3(sum / length) : Vec3::Zero();
-  }
+  for (int v = 0; v < n; ++v)
+    if (rings.boundary[v]) normals[v] = detail::vertexNormalAt(v, points, faces, rings);
 }
 
 namespace detail {

@@ -196,6 +196,13 @@ public:
     }
   }
 
+  // Frees the step buffers that smooth() and applyChebyshev() keep between calls (they come back
+  // on the next call).
+  void releaseBuffers() const {
+    std::vector<std::vector<Vec3>>().swap(next_);
+    std::vector<std::vector<Vec3f>>().swap(next_float_);
+  }
+
 private:
   enum class Kind : std::uint8_t { Still, Curve, Interior };
 

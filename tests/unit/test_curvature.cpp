@@ -206,3 +206,40 @@ TEST(Curvature, IndependentOfVertexOrderAndThreadCount) {
   EXPECT_EQ(one.dir1, two.dir1);
   EXPECT_EQ(one.normal, two.normal);
 }
+
+// The vertex normals are the area-weighted sums of their faces' cross products in face-list order,
+// normalised: the same bits as summing a per-face array of cross products (how they were computed
+// before), for interior and boundary vertices alike, with a zero normal where the faces have no
+// area; computeBoundaryVertexNormals gives the boundary's the same and leaves the others.
+TEST(VertexNormals, AreaWeightedSumsOfTheFacesCrossProducts) {
+  MeshArrays m = test_meshes::cylinder(1.0, 2.0, 24, 12); // open: two boundary curves
+  test_meshes::addNoise(m, 0.02, 3);
+  m.points.push_back(Vec3(5, 5, 5)); // isolated
+  const int n = int(m.points.size());
+  const Rings rings = computeRings(n, m.faces);
+  std::vector<Vec3> cross(m.faces.size()), expected(n, Vec3::Zero());
+  for (size_t f = 0; f < m.faces.size(); ++f) {
+    const Face &t = m.faces[f];
+    cross[f] = (m.points[t[1]] - m.points[t[0]]).cross(m.points[t[2]] - m.points[t[0]]);
+  }
+  for (int v = 0; v < n; ++v) {
+    Vec3 sum = Vec3::Zero();
+    for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) sum += cross[*f];
+    if (sum.norm() > 0) expected[v] = sum / sum.norm();
+  }
+  std::vector<Vec3> normals;
+  computeVertexNormals(m.points, m.faces, rings, normals);
+  ASSERT_EQ(normals.size(), size_t(n));
+  EXPECT_EQ(normals, expected);
+  EXPECT_EQ(normals[n - 1], Vec3::Zero());
+  // An outward normal on the cylinder's side: along the radius.
+  EXPECT_GT(normals[0].dot(Vec3(m.points[0].x(), m.points[0].y(), 0).normalized()), 0.9);
+  std::vector<Vec3> boundary(n, Vec3::Constant(7));
+  computeBoundaryVertexNormals(m.points, m.faces, rings, boundary);
+  int boundary_count = 0;
+  for (int v = 0; v < n; ++v) {
+    EXPECT_EQ(boundary[v], rings.boundary[v] ? expected[v] : Vec3::Constant(7)) << v;
+    boundary_count += rings.boundary[v];
+  }
+  EXPECT_EQ(boundary_count, 48);
+}

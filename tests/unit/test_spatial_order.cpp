@@ -100,6 +100,20 @@ TEST(SpatialTaubin, GivenOrderKeepsTheNumberingAndTheBits) {
   EXPECT_GT(moved, n / 2);
 }
 
+// Releasing the step buffers between calls changes nothing: they come back on the next call.
+TEST(SpatialTaubin, ReleasedBuffersComeBackWithTheSameBits) {
+  const CylinderGraph g;
+  std::vector<std::uint8_t> fixed(g.n, 0);
+  const SpatialTaubin taubin(g.m.points, g.rings, fixed, g.roles.boundary_neighbours);
+  std::vector<Vec3> whole = taubin.toLocal(g.m.points), halves = whole;
+  taubin.smooth({&whole}, 4, 0.5, -0.53);
+  taubin.smooth({&halves}, 2, 0.5, -0.53);
+  taubin.releaseBuffers();
+  taubin.smooth({&halves}, 2, 0.5, -0.53);
+  EXPECT_EQ(halves, whole);
+  EXPECT_NE(whole, taubin.toLocal(g.m.points));
+}
+
 // The band shrinkage's case: a double field and a float field in one sweep over the graph (their
 // neighbour sums share the reads; the float sums run in the lanes of one register) give, to the
 // bit, what each gives alone, for the steps and for the Chebyshev series.
