@@ -217,7 +217,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   if (!given_setup)
     own_setup.emplace(detail::driverSetup(mesh, params.selected_only, params.boundary));
   detail::DriverSetup &setup = given_setup ? *given_setup : *own_setup;
-  addFaceRingLists(setup.face_rings, mesh.faces, setup.rings); // the set-up holds edge neighbours
+  detail::ensureFaceRings(mesh, setup);
   const Rings &rings = setup.rings;
   const EdgeStatistics &stats = setup.stats;
   const detail::VertexRoles &roles = setup.roles;

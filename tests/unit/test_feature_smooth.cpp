@@ -248,3 +248,25 @@ TEST(FeatureSmooth, PreserveVolumeRestoresTheInputVolumeOfACoarseMesh) {
   EXPECT_LT(std::abs(kept_ratio - 1.0), 2e-4);   // measured 0.99997
   EXPECT_NEAR(kept.volume_after, signedVolume(out, noisy.faces), 1e-12);
 }
+
+// A set-up without face rings (a large mesh's: its noise estimate ran on windows) gets them built
+// by the feature mode: the same result, bit for bit, as from a set-up that had its edge neighbours.
+TEST(FeatureSmooth, BuildsTheFaceRingsWhenTheSetUpHasNone) {
+  const MeshArrays clean = test_meshes::box(1.0, 0.8, 0.6, 12);
+  const MeshArrays noisy = test_meshes::withNormalNoise(clean, 0.3 * meanEdge(clean), 4);
+  detail::DriverSetup with = detail::driverSetup(noisy, false);
+  ASSERT_FALSE(with.face_rings.edge_neighbours.empty());
+  detail::DriverSetup without = with;
+  without.face_rings = FaceRings();
+  std::vector<Vec3> a, b;
+  VertexQuantities qa, qb;
+  const FeatureSmoothReport ra =
+      detail::featureSmoothAsGiven(noisy, FeatureSmoothParams(), a, qa, nullptr, nullptr, &with);
+  const FeatureSmoothReport rb = detail::featureSmoothAsGiven(noisy, FeatureSmoothParams(), b, qb,
+                                                              nullptr, nullptr, &without);
+  ASSERT_EQ(a.size(), noisy.points.size());
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(qa.saliency, qb.saliency);
+  EXPECT_EQ(ra.vertices_moved, rb.vertices_moved);
+  EXPECT_GT(ra.vertices_moved, long(noisy.points.size()) / 2);
+}
