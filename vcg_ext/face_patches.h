@@ -149,12 +149,12 @@ inline void addLowerOuter3(Eigen::Matrix<double, 9, 9> &M, double w0, const doub
 namespace detail {
 
 // fitFacePatch with the face's centroid given, its ring as the range [ring, ring_end) and the
-// faces' areas read through `area(g)`.
-template <class AreaOf>
-bool fitFacePatchAt(int f, const Vec3 &centroid, const std::vector<Vec3> &points,
-                    const std::vector<Face> &faces, const int *ring, const int *ring_end,
-                    AreaOf area, const std::vector<Vec3> &filtered, double mean_area,
-                    double mean_edge, const FacePatchParams &params, FacePatch &out) {
+// faces' areas in `area` (fitFacePatchAt compiles this body twice, see there).
+[[gnu::always_inline]] inline bool
+fitFacePatchBody(int f, const Vec3 &centroid, const std::vector<Vec3> &points,
+                 const std::vector<Face> &faces, const int *ring, const int *ring_end,
+                 const double *area, const std::vector<Vec3> &filtered, double mean_area,
+                 double mean_edge, const FacePatchParams &params, FacePatch &out) {
   const Vec3 &n = filtered[f];
   out.origin = centroid;
   out.unit = mean_edge;
@@ -174,7 +174,7 @@ bool fitFacePatchAt(int f, const Vec3 &centroid, const std::vector<Vec3> &points
   double total = 0;
   for (const int *g = ring; g != ring_end; ++g) {
     const Vec3 &m = filtered[*g];
-    const double w = area(*g) / mean_area * rangeKernel(range * (n - m).squaredNorm());
+    const double w = area[*g] / mean_area * rangeKernel(range * (n - m).squaredNorm());
     if (!(w > 1e-12)) continue;
     // Face g's data are its centroid height and its normal, i.e. its plane. The patch is asked to
     // reproduce that plane where it interpolates g's corners (the mean of the patch at the corners,
@@ -197,7 +197,7 @@ bool fitFacePatchAt(int f, const Vec3 &centroid, const std::vector<Vec3> &points
     const double along = m.dot(n);
     const double ax = x[1] - x[0], ay = y[1] - y[0], bx = x[2] - x[0], by = y[2] - y[0];
     const double det = ax * by - ay * bx; // twice the projected area, in edge² units
-    const double true_area = 2.0 * area(*g) / (mean_edge * mean_edge);
+    const double true_area = 2.0 * area[*g] / (mean_edge * mean_edge);
     // Slopes only where g's projection is a fair, unfolded triangle and m is not steep.
     if (along > 0.5 && params.slope_weight > 0 && det > 0.3 * true_area) {
       // The interpolant's gradient: J g = (h1 − h0, h2 − h0), J = [ax ay; bx by].
@@ -244,6 +244,45 @@ bool fitFacePatchAt(int f, const Vec3 &centroid, const std::vector<Vec3> &points
   return true;
 }
 
+// The fit's body as built for every x86-64 processor, and again with AVX2's instructions (VEX
+// encoding: three-operand forms, no register copies before each sum), chosen once by the
+// processor. AVX2 without FMA: the compiler may not fuse a product and a sum nor reorder sums, so
+// both give the same bits (FacePatches.BothBuildsOfTheFitGiveTheSameBits); the second is about
+// a sixth faster (bench/PERFORMANCE.md, twelfth pass).
+inline bool fitFacePatchPortable(int f, const Vec3 &centroid, const std::vector<Vec3> &points,
+                                 const std::vector<Face> &faces, const int *ring,
+                                 const int *ring_end, const double *area,
+                                 const std::vector<Vec3> &filtered, double mean_area,
+                                 double mean_edge, const FacePatchParams &params, FacePatch &out) {
+  return fitFacePatchBody(f, centroid, points, faces, ring, ring_end, area, filtered, mean_area,
+                          mean_edge, params, out);
+}
+#if defined(__GNUC__) && defined(__x86_64__)
+#define VCG_EXT_FIT_WITH_AVX2 1
+__attribute__((target("avx2"))) inline bool
+fitFacePatchAvx2(int f, const Vec3 &centroid, const std::vector<Vec3> &points,
+                 const std::vector<Face> &faces, const int *ring, const int *ring_end,
+                 const double *area, const std::vector<Vec3> &filtered, double mean_area,
+                 double mean_edge, const FacePatchParams &params, FacePatch &out) {
+  return fitFacePatchBody(f, centroid, points, faces, ring, ring_end, area, filtered, mean_area,
+                          mean_edge, params, out);
+}
+#endif
+
+inline bool fitFacePatchAt(int f, const Vec3 &centroid, const std::vector<Vec3> &points,
+                           const std::vector<Face> &faces, const int *ring, const int *ring_end,
+                           const double *area, const std::vector<Vec3> &filtered, double mean_area,
+                           double mean_edge, const FacePatchParams &params, FacePatch &out) {
+#ifdef VCG_EXT_FIT_WITH_AVX2
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2)
+    return fitFacePatchAvx2(f, centroid, points, faces, ring, ring_end, area, filtered, mean_area,
+                            mean_edge, params, out);
+#endif
+  return fitFacePatchPortable(f, centroid, points, faces, ring, ring_end, area, filtered,
+                              mean_area, mean_edge, params, out);
+}
+
 // A face's centroid, as computeFaceGeometry computes it.
 inline Vec3 faceCentroid(const std::vector<Vec3> &points, const Face &t) {
   return (points[t[0]] + points[t[1]] + points[t[2]]) / 3.0;
@@ -259,7 +298,7 @@ inline bool fitFacePatch(int f, const std::vector<Vec3> &points, const std::vect
                          const FacePatchParams &params, FacePatch &out) {
   return detail::fitFacePatchAt(
       f, geometry.centroid[f], points, faces, face_rings.begin(f), face_rings.end(f),
-      [&](int g) { return geometry.area[g]; }, filtered, mean_area, mean_edge, params, out);
+      geometry.area.data(), filtered, mean_area, mean_edge, params, out);
 }
 
 // Every face's patch, compactly: per face the height coefficients in single precision and whether
@@ -326,8 +365,8 @@ long fitFacePatchesWith(const std::vector<Vec3> &points, const std::vector<Face>
       FacePatch fitted;
       const std::pair<const int *, const int *> ring = ring_of(f, scratch);
       fallbacks += !detail::fitFacePatchAt(f, detail::faceCentroid(points, faces[f]), points,
-                                           faces, ring.first, ring.second,
-                                           [&](int g) { return area[g]; }, normals, mean_area,
+                                           faces, ring.first, ring.second, area.data(),
+                                           normals, mean_area,
                                            mean_edge, own, fitted);
       patches.c[f] = fitted.c.cast<float>();
       patches.curved[f] = fitted.curved;
