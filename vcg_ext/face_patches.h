@@ -248,7 +248,8 @@ fitFacePatchBody(int f, const Vec3 &centroid, const std::vector<Vec3> &points,
 // encoding: three-operand forms, no register copies before each sum), chosen once by the
 // processor. AVX2 without FMA: the compiler may not fuse a product and a sum nor reorder sums, so
 // both give the same bits (FacePatches.BothBuildsOfTheFitGiveTheSameBits); the second is about
-// a sixth faster (bench/PERFORMANCE.md, twelfth pass).
+// a tenth faster (2.2M vertices: the organic mode's patch update 3.5 -> 3.2-3.3 s;
+// bench/PERFORMANCE.md, twelfth pass).
 inline bool fitFacePatchPortable(int f, const Vec3 &centroid, const std::vector<Vec3> &points,
                                  const std::vector<Face> &faces, const int *ring,
                                  const int *ring_end, const double *area,
