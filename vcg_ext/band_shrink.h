@@ -118,9 +118,10 @@ struct BandShrinkParams {
   // applications (10, 12, 16, 19) instead of their 240 steps; the earlier 1e-6 without the
   // correction took 64 for 16-128 pairs and ran the 8-16 band's 16 steps. Against the
   // pair-by-pair result (1e-10) vertices differ by at most 4e-3 mean edge lengths (root mean
-  // square 2e-4 to 6e-4) and θ by at most 0.002° on four scanner-noise cases and the 2.2M scale
-  // mesh; 1e-6 without the correction: up to 1e-3 (rms 5e-6 to 4e-4, the most on the largest
-  // mesh, whose extent its error scaled with). bench/PERFORMANCE.md, twelfth pass.
+  // square 1.6e-4 to 5.6e-4) on five scanner-noise cases and the 2.2M scale mesh, θ by at most
+  // 0.002° on the four scanner cases it was scored on; 1e-6 without the correction: up to 1e-3
+  // (rms 5e-6 to 4e-4, the most on the largest mesh, whose extent its error scaled with).
+  // bench/PERFORMANCE.md, twelfth pass.
   bool chebyshev = true;
   double chebyshev_tolerance = 1e-4;
   // Probes for the fine band (the first is the whole-run probe; the others run only up to the
@@ -396,10 +397,8 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   const auto normal_at =
       std::find(edges.begin(), edges.end(), params.normal_pairs) - edges.begin();
   auto take_normals = [&] {
-    if (params.given_order) // local order is the mesh's: no copy
-      computeVertexNormals(coarse, faces, rings, normals);
-    else
-      computeVertexNormals(taubin.toGlobal(coarse), faces, rings, normals);
+    std::vector<Vec3> scratch;
+    computeVertexNormals(taubin.inGlobalOrder(coarse, scratch), faces, rings, normals);
   };
   taubin.smooth({&coarse}, {&probe}, edges[0], lambda, mu);
   if (normal_at == 0) take_normals();

@@ -35,7 +35,7 @@ public:
   SpatialTaubin(const std::vector<Vec3> &points, const Rings &rings,
                 const std::vector<std::uint8_t> &fixed,
                 const std::vector<std::array<int, 2>> &curve, bool given_order = false)
-      : n_(rings.vertex_count) {
+      : n_(rings.vertex_count), given_order_(given_order) {
     if (given_order) {
       to_global_.resize(n_);
       for (int v = 0; v < n_; ++v) to_global_[v] = v;
@@ -81,6 +81,14 @@ public:
     std::vector<Vec3> out(n_);
     for (int l = 0; l < n_; ++l) out[to_global_[l]] = local[l];
     return out;
+  }
+  // `local` read in the mesh's order: the field itself where the order was kept (no copy), else
+  // toGlobal's copy, held in `scratch`.
+  const std::vector<Vec3> &inGlobalOrder(const std::vector<Vec3> &local,
+                                         std::vector<Vec3> &scratch) const {
+    if (given_order_) return local;
+    scratch = toGlobal(local);
+    return scratch;
   }
 
   // `pairs` λ|μ pairs on each field (local order). `boundary_still`: boundary vertices stay where
@@ -307,6 +315,7 @@ private:
   }
 
   int n_;
+  bool given_order_;
   std::vector<int> to_global_, to_local_, offsets_, neighbours_;
   std::vector<Kind> kind_;
   mutable std::vector<std::vector<Vec3>> next_;

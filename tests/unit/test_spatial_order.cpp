@@ -90,6 +90,9 @@ TEST(SpatialTaubin, GivenOrderKeepsTheNumberingAndTheBits) {
   const SpatialTaubin taubin(g.m.points, g.rings, fixed, g.roles.boundary_neighbours,
                              /*given_order=*/true);
   for (int v = 0; v < n; ++v) ASSERT_EQ(taubin.local(v), v);
+  std::vector<Vec3> scratch;
+  EXPECT_EQ(&taubin.inGlobalOrder(g.m.points, scratch), &g.m.points); // read as it is, no copy
+  EXPECT_TRUE(scratch.empty());
   std::vector<Vec3> points = g.m.points;
   taubin.smooth({&points}, 4, 0.5, -0.53);
   int moved = 0;
@@ -166,6 +169,11 @@ TEST(SpatialTaubin, RenumberingBringsNeighboursTogether) {
   for (int v = 0; v < n; ++v) ++seen[taubin.local(v)];
   EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), n);
   EXPECT_EQ(taubin.toGlobal(taubin.toLocal(m.points)), m.points);
+  // Renumbered: the mesh's order is a copy.
+  std::vector<Vec3> scratch;
+  const std::vector<Vec3> local = taubin.toLocal(m.points);
+  EXPECT_EQ(&taubin.inGlobalOrder(local, scratch), &scratch);
+  EXPECT_EQ(scratch, m.points);
 }
 
 TEST(SpatialOrder, SameMeshInAnOrderThatDoesNotDependOnTheInputOrder) {
