@@ -89,6 +89,10 @@ struct BandShrinkParams {
   // The noise's colour: per band, its energy over a white noise's of the same fine-band level
   // (empty or missing bands: 1, white). Multiplies the probe's band energies.
   std::vector<double> noise_colour;
+  // Per band (finest first): the share of its Wiener shrinkage the band takes (missing: 1, all of
+  // it). The organic mode's bands beyond 128 pairs, there only when the user asks for more than
+  // the measured amount, take theirs in as the strength grows (organic_smooth.h).
+  std::vector<double> shrink_share;
   // The finest bands (up to robust_max_pairs) compare the mesh's and the probe's energies as the
   // means of the values below robust_quantile, not of all: spikes (scan outliers, stray vertices
   // at holes) are noise, yet in plain energies they read as shape and keep the band (the real
@@ -244,6 +248,12 @@ inline double bandColour(const BandShrinkParams &params, int b) {
 // Wiener shrinkage: the share of `energy` beyond `noise` (1 where there is no energy).
 inline double wienerGain(double noise, double energy) {
   return energy > 0 ? std::clamp(1.0 - noise / energy, 0.0, 1.0) : 1.0;
+}
+// Band b's gain when it takes only its shrink share of the shrinkage (BandShrinkParams::
+// shrink_share); a band with all of it keeps the gain's bits.
+inline double sharedGain(const BandShrinkParams &params, int b, double gain) {
+  const double share = b < int(params.shrink_share.size()) ? params.shrink_share[b] : 1.0;
+  return share >= 1.0 ? gain : 1.0 - std::max(share, 0.0) * (1.0 - gain);
 }
 
 // The local bands' gains per vertex (local order; other bands empty), and their means into
@@ -508,7 +518,8 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
     const bool trimmed = trim_band(b);
     const double noise = trimmed ? noise_trimmed[b] : noise_energy[b];
     const double total = trimmed ? energy_trimmed[b] : energy[b];
-    report.gains[b] = detail::wienerGain(report.alpha * detail::bandColour(params, b) * noise, total);
+    report.gains[b] = detail::sharedGain(
+        params, b, detail::wienerGain(report.alpha * detail::bandColour(params, b) * noise, total));
   }
   std::vector<Vec3f>().swap(probe);
   std::vector<Vec3f>().swap(probe_previous);

@@ -41,6 +41,10 @@ struct OrganicSmoothParams {
   // measured as clean is smoothed too when asked.
   double strength = 1.0;
   double noise_edges_per_strength = 0.1;
+  // Above strength 1, one more band per doubling of the strength beyond the coarsest (at most
+  // this many octaves of pairs; Iterations' 30, strength 10, takes four: up to 2048 pairs), so
+  // that asking for more keeps removing more (addStrengthBands).
+  int max_strength_octaves = 4;
   HeavyTailParams tails; // the noise's heavy-tail factor on the measured need (heavyTailFactor)
   // The noise's colour (noise_estimate.h's noiseColour) multiplies the white probe's band energies.
   bool coloured_noise = false;
@@ -78,6 +82,25 @@ struct OrganicSmoothReport {
 };
 
 namespace detail {
+
+// The bands a strength above 1 adds beyond the coarsest (BandShrinkParams::band_pairs): band j
+// (1, 2, ...) spans twice the pairs of the one before (128-256, 256-512, ... after the default
+// bands) and takes in its shrinkage as the strength goes from 2^(j-1) to 2^j
+// (BandShrinkParams::shrink_share), so the result changes continuously with the strength, and a
+// strength of 1 or less runs the bands as they are. Why: the shrinkage keeps the coarsest band's
+// base whole, so past about three times the measured amount the user's strength did nothing
+// (heavy scanner noise on the Bunny, 1 mean edge length: θ 14.75° at strength 3 and 4, MeshLab's
+// HC Laplacian ×10 11.80°; bench/SCANNER_METHOD.md "Strength past the coarsest band").
+inline void addStrengthBands(BandShrinkParams &bands, double strength, int max_octaves) {
+  if (!(strength > 1) || bands.band_pairs.size() < 2) return;
+  const int existing = int(bands.band_pairs.size()) - 1;
+  bands.shrink_share.resize(existing, 1.0);
+  const double octaves = std::log2(strength);
+  for (int j = 1; j <= max_octaves && octaves > j - 1; ++j) {
+    bands.band_pairs.push_back(2 * bands.band_pairs.back());
+    bands.shrink_share.push_back(std::clamp(octaves - (j - 1), 0.0, 1.0));
+  }
+}
 
 // The driver on `mesh` as given (organicSmoothMesh runs it in spatial order).
 inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
@@ -144,6 +167,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     bands.noise_scale *= report.amount;
     // Asked for more than measured: at least a tenth of an edge length per strength unit above 1.
     bands.min_noise_edges = std::max(0.0, params.strength - 1) * params.noise_edges_per_strength;
+    detail::addStrengthBands(bands, params.strength, params.max_strength_octaves);
     if (params.coloured_noise) bands.noise_colour = noiseColour(setup.noise, bands.band_pairs, params.colour);
     // The band shrinkage, this mode's peak memory, reads no face rings, nor does the patch update
     // (its fit merges each face's ring when it needs it): ~136 bytes per vertex freed.

@@ -49,6 +49,12 @@ std::vector<Vec3> organicSmoothed(const MeshArrays &mesh,
   return out;
 }
 
+double largestDifference(const std::vector<Vec3> &a, const std::vector<Vec3> &b) {
+  double largest = 0;
+  for (size_t i = 0; i < a.size(); ++i) largest = std::max(largest, (a[i] - b[i]).norm());
+  return largest;
+}
+
 MeshArrays flatGrid() {
   return test_meshes::heightField(40, -1, 1, -1, 1, [](double, double) { return 0.0; });
 }
@@ -544,4 +550,79 @@ TEST(BandShrink, KeepingTheGivenOrderGivesTheSameBits) {
   EXPECT_EQ(a.gains, b.gains);
   EXPECT_EQ(a.alpha, b.alpha);
   EXPECT_NE(given, scattered.points); // it did smooth
+}
+
+// A band that takes only a share of its shrinkage keeps that share of the Wiener gain's distance
+// from 1; a band with all of it (or no share given) keeps the gain's bits.
+TEST(BandShrink, SharedGainTakesTheBandsShareOfItsShrinkage) {
+  BandShrinkParams p;
+  p.shrink_share = {1.0, 0.0, 0.25};
+  EXPECT_EQ(detail::sharedGain(p, 0, 0.3), 0.3);
+  EXPECT_EQ(detail::sharedGain(p, 1, 0.3), 1.0);
+  EXPECT_DOUBLE_EQ(detail::sharedGain(p, 2, 0.2), 0.8);
+  EXPECT_EQ(detail::sharedGain(p, 7, 0.3), 0.3);
+}
+
+// Above strength 1 the organic mode adds one band per doubling beyond the coarsest, each taking in
+// its shrinkage over its doubling; at strength 1 or less the bands stay as they are.
+TEST(OrganicSmooth, StrengthAddsOneBandPerDoublingBeyondTheCoarsest) {
+  const BandShrinkParams base;
+  const int count = int(base.band_pairs.size()) - 1;
+  auto with = [](double strength, int octaves) {
+    BandShrinkParams b;
+    detail::addStrengthBands(b, strength, octaves);
+    return b;
+  };
+  for (double s : {0.0, 0.5, 1.0}) {
+    const BandShrinkParams b = with(s, 4);
+    EXPECT_EQ(b.band_pairs, base.band_pairs);
+    EXPECT_TRUE(b.shrink_share.empty());
+  }
+  std::vector<int> pairs = base.band_pairs;
+  pairs.push_back(256);
+  std::vector<double> share(count, 1.0);
+  share.push_back(1.0);
+  EXPECT_EQ(with(2.0, 4).band_pairs, pairs);
+  EXPECT_EQ(with(2.0, 4).shrink_share, share);
+  const BandShrinkParams three = with(3.0, 4);
+  ASSERT_EQ(three.band_pairs.size(), base.band_pairs.size() + 2);
+  EXPECT_EQ(three.band_pairs.back(), 512);
+  EXPECT_NEAR(three.shrink_share.back(), std::log2(3.0) - 1, 1e-15);
+  EXPECT_EQ(three.shrink_share[count], 1.0);
+  // The filter's largest strength (Iterations 30): four octaves, up to 2048 pairs.
+  const BandShrinkParams ten = with(10.0, 4);
+  EXPECT_EQ(ten.band_pairs.back(), 2048);
+  EXPECT_NEAR(ten.shrink_share.back(), std::log2(10.0) - 3, 1e-15);
+  EXPECT_EQ(with(10.0, 2).band_pairs.back(), 512);
+  // Just above 1: the new band is there with almost none of its shrinkage.
+  const BandShrinkParams just = with(1.0 + 1e-9, 4);
+  ASSERT_EQ(just.band_pairs.size(), base.band_pairs.size() + 1);
+  EXPECT_LT(just.shrink_share.back(), 1e-8);
+}
+
+// Heavy noise (one mean edge length along the normals) on the bumpy field: without the added bands
+// every band's gain is 0 from strength 3 on and the result stops changing (the coarsest band's
+// base); with them each doubling of the strength takes more off the coarse scales. The default
+// strength runs the bands as they are (the same bits either way).
+TEST(OrganicSmooth, MoreStrengthKeepsActingPastTheCoarsestBand) {
+  const MeshArrays clean = test_meshes::heightField(48, -1, 1, -1, 1, [](double x, double y) {
+    return 0.25 * std::sin(3 * x) * std::cos(2 * y);
+  });
+  const MeshArrays noisy = test_meshes::withNormalNoise(clean, 1.0 * meanEdge(clean), 12);
+  auto run = [&](double strength, int octaves) {
+    OrganicSmoothParams p;
+    p.strength = strength;
+    p.max_strength_octaves = octaves;
+    return organicSmoothed(noisy, p);
+  };
+  EXPECT_EQ(run(1.0, 0), run(1.0, 4));
+  const double edge = meanEdge(clean);
+  const double stopped = largestDifference(run(4.0, 0), run(8.0, 0)) / edge;
+  const double going = largestDifference(run(4.0, 4), run(8.0, 4)) / edge;
+  RecordProperty("without_bands", std::to_string(stopped));
+  RecordProperty("with_bands", std::to_string(going));
+  EXPECT_LT(stopped, 1e-3);
+  EXPECT_GT(going, 0.05);
+  // Continuous at strength 1: the new band comes in with (almost) none of its shrinkage.
+  EXPECT_LT(largestDifference(run(1.0, 4), run(1.0 + 1e-6, 4)) / edge, 1e-3);
 }
