@@ -67,16 +67,6 @@ def make_cases(work, quick):
     return cases
 
 
-def write_report(path, lines):
-    path = pathlib.Path(path)
-    block = MARK_BEGIN + "\n" + "\n".join(lines) + "\n" + MARK_END
-    text = path.read_text() if path.exists() else ""
-    begin, end = text.find(MARK_BEGIN), text.find(MARK_END)
-    text = (text[:begin] + block + text[end + len(MARK_END):] if begin >= 0 and end > begin
-            else text + ("\n" if text else "") + block + "\n")
-    path.write_text(text)
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--build", default=os.environ.get("SBS_BUILD_DIR", str(REPO / "build")))
@@ -115,7 +105,7 @@ def main():
              "; organic: " + ", ".join(c for c in ORGANIC if any(x["name"].startswith(c + " ")
                                                                    for x in cases)) + ".", ""]
     lines += scanner_bench.scanner_tables(cases, results, {}, 0)
-    write_report(args.out, lines)
+    bench.write_between_markers(args.out, MARK_BEGIN, MARK_END, lines)
     print("\n".join(lines))
 
 
