@@ -104,7 +104,8 @@ inline const std::vector<ParamSpec> &parameterSpecs(FilterId id) {
       {ParamKind::Int, "iterations", 3, "Iterations (strength)",
        "Automatic, Feature-preserving, Organic scan: how much of the measured noise to remove, "
        "in thirds: 3 = as measured, 6 = twice, 1 = a third, 0 = none; above 3 a mesh measured "
-       "as clean is smoothed too (at most 30). The paper's methods: the number of iterations."},
+       "as clean is smoothed too, and Organic scan reaches coarser scales with each doubling (at "
+       "most 30). The paper's methods: the number of iterations."},
       {ParamKind::Bool, "alpha_override", 1, "Override alpha",
        "On: every patch fit uses Alpha below. Off: the paper's rule, alpha = Saliency_min / "
        "Saliency_max of the fit's vertices. Every method: the 2-ring patches of the paper's "
