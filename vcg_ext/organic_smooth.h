@@ -89,8 +89,9 @@ namespace detail {
 // (BandShrinkParams::shrink_share), so the result changes continuously with the strength, and a
 // strength of 1 or less runs the bands as they are. Why: the shrinkage keeps the coarsest band's
 // base whole, so past about three times the measured amount the user's strength did nothing
-// (heavy scanner noise on the Bunny, 1 mean edge length: θ 14.75° at strength 3 and 4, MeshLab's
-// HC Laplacian ×10 11.80°; bench/SCANNER_METHOD.md "Strength past the coarsest band").
+// (bench/heavy_noise.py's Bunny, 1 mean edge length of scanner noise: θ 14.37° at strength 3, 4
+// and 6, MeshLab's HC Laplacian ×10 11.75°; now 12.47° at 4; bench/SCANNER_METHOD.md "Strength
+// past the coarsest band").
 inline void addStrengthBands(BandShrinkParams &bands, double strength, int max_octaves) {
   if (!(strength > 1) || bands.band_pairs.size() < 2) return;
   const int existing = int(bands.band_pairs.size()) - 1;

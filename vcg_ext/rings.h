@@ -15,7 +15,7 @@
 #include <utility>
 
 #ifdef _OPENMP
-#include <parallel/algorithm>
+#include <omp.h>
 #endif
 
 namespace vcg_ext {
@@ -105,20 +105,44 @@ void buildCsrInBlocks(int n, std::vector<int> &offsets, std::vector<int> &values
     std::copy(buffer[b].begin(), buffer[b].end(), values.begin() + offsets[b * block]);
 }
 
-// Sorts `values` ascending, in parallel where OpenMP is on (libstdc++'s parallel mode: a multiway
-// merge sort). For values that are all distinct or equal only when identical, the result is the
-// same as std::sort's.
+// Sorts `values` ascending, in parallel where OpenMP is on: blocks sorted by std::sort, then merged
+// pairwise, the merges writing into a buffer allocated before any parallel region (std::sort and
+// std::merge allocate nothing). libstdc++'s parallel mode allocated inside its threads, where a
+// failed allocation cannot reach the caller: under an address-space limit the process aborted
+// instead of the filter refusing (MemoryCheck.AllocationFailureAnywhereInARunIsARefusal...). For
+// values that are all distinct or equal only when identical, the result is std::sort's, whatever
+// the number of blocks.
 template <class T> void parallelSort(std::vector<T> &values) {
   // Already sorted (the second Morton order of a mesh the driver put in that order): a check
   // instead of a sort, the same sequence (equal elements are equal values).
   if (std::is_sorted(values.begin(), values.end())) return;
+  const size_t n = values.size();
+  int blocks = 1;
 #ifdef _OPENMP
-  if (values.size() >= size_t(min_parallel_vertices)) {
-    __gnu_parallel::sort(values.begin(), values.end());
+  if (n >= size_t(std::max(min_parallel_vertices, 2)))
+    while (blocks < omp_get_max_threads() && blocks < 64) blocks *= 2;
+#endif
+  if (blocks == 1) {
+    std::sort(values.begin(), values.end());
     return;
   }
-#endif
-  std::sort(values.begin(), values.end());
+  std::vector<T> buffer(n);
+  auto bound = [&](int b) { return ptrdiff_t(n * size_t(b) / size_t(blocks)); };
+#pragma omp parallel for schedule(static, 1)
+  for (int b = 0; b < blocks; ++b)
+    std::sort(values.begin() + bound(b), values.begin() + bound(b + 1));
+  std::vector<T> *from = &values, *to = &buffer;
+  for (int width = 1; width < blocks; width *= 2) {
+#pragma omp parallel for schedule(static, 1)
+    for (int b = 0; b < blocks; b += 2 * width) {
+      const auto lo = bound(b), mid = bound(std::min(b + width, blocks)),
+                 hi = bound(std::min(b + 2 * width, blocks));
+      std::merge(from->begin() + lo, from->begin() + mid, from->begin() + mid, from->begin() + hi,
+                 to->begin() + lo);
+    }
+    std::swap(from, to);
+  }
+  if (from != &values) values.swap(*from);
 }
 
 } // namespace detail

@@ -4,6 +4,7 @@
 // std::bad_alloc path, also from inside the parallel regions), and the mesh is left bit for bit as
 // it was. The limit is this process's own RLIMIT_AS, lowered for the test and restored after.
 #include <gtest/gtest.h>
+#include <omp.h>
 #include <support/analytic_meshes.h>
 #include <support/vcg_meshes.h>
 
@@ -88,6 +89,35 @@ TEST(MemoryCheck, BothFiltersRefuseBeforeAllocatingWhenTheEstimateExceedsTheRoom
   EXPECT_TRUE(test_vcg::snapshot(m) == before);
   // The same mesh without the limit runs.
   EXPECT_TRUE(applySaliencyBezierSmooth(m, defaultParameters(FilterId::SaliencyBezierSmooth), nullptr).ok);
+}
+
+// The parallel sort (spatial order, saliency grid) allocates only outside its parallel regions, so
+// a failed allocation reaches the caller as std::bad_alloc (the filter refuses) instead of
+// terminating an OpenMP thread; the values are left as a permutation of themselves.
+TEST(MemoryCheck, ParallelSortPassesAnAllocationFailureToItsCaller) {
+  if (kAddressSanitizer) GTEST_SKIP() << "address-space limits do not work under ASan";
+  const int saved_parallel = vcg_ext::min_parallel_vertices;
+  vcg_ext::min_parallel_vertices = 0;
+  const int saved_threads = omp_get_max_threads();
+  omp_set_num_threads(2);
+  std::vector<std::pair<std::uint64_t, int>> values(4000000); // 64 MB, its buffer as much again
+  for (int i = 0; i < int(values.size()); ++i)
+    values[i] = {std::uint64_t(values.size() - i) * 2654435761u % 1000003u, i};
+  bool threw = false;
+  {
+    AddressSpaceLimit limit(16e6);
+    ASSERT_TRUE(limit.ok());
+    try {
+      vcg_ext::detail::parallelSort(values);
+    } catch (const std::bad_alloc &) {
+      threw = true;
+    }
+  }
+  EXPECT_TRUE(threw);
+  vcg_ext::detail::parallelSort(values); // without the limit
+  EXPECT_TRUE(std::is_sorted(values.begin(), values.end()));
+  omp_set_num_threads(saved_threads);
+  vcg_ext::min_parallel_vertices = saved_parallel;
 }
 
 TEST(MemoryCheck, AllocationFailureAnywhereInARunIsARefusalAndLeavesTheMeshUnchanged) {

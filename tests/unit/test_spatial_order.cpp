@@ -305,6 +305,19 @@ TEST(ParallelSort, GivesStdSortsSequenceForShuffledSortedAndNearlySortedInput) {
   ASSERT_FALSE(values == expected);
   vcg_ext::detail::parallelSort(values);
   EXPECT_TRUE(values == expected);
+  // Any number of threads (blocks of the merge sort: 1, 2, 4, 8) and sizes that do not split
+  // evenly.
+  const int saved = omp_get_max_threads();
+  for (int threads : {1, 2, 3, 5, 8})
+    for (size_t size : {size_t(60001), size_t(7), size_t(1)}) {
+      omp_set_num_threads(threads);
+      std::vector<std::pair<std::uint64_t, int>> part(shuffled.begin(), shuffled.begin() + size);
+      std::vector<std::pair<std::uint64_t, int>> sorted = part;
+      std::sort(sorted.begin(), sorted.end());
+      vcg_ext::detail::parallelSort(part);
+      EXPECT_TRUE(part == sorted) << threads << " threads, " << size << " values";
+    }
+  omp_set_num_threads(saved);
 }
 
 // sortFacesByCorners: std::sort's sequence in linear time, with repeated faces, first corners
