@@ -16,9 +16,7 @@ bench/SCANNER_METHOD.md (between its <!-- heavy --> markers).
   clean mesh), as bench/scanner_bench.py runs them.
 --quick: three meshes at level 1, the SD filter at its defaults only (for checking the harness).
 """
-import argparse
 import json
-import os
 import pathlib
 import signal
 import sys
@@ -107,37 +105,17 @@ def table(cases, results):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--build", default=os.environ.get("SBS_BUILD_DIR", str(REPO / "build")))
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("--quick", action="store_true")
-    ap.add_argument("--out", default=str(REPO / "bench" / "SCANNER_METHOD.md"))
-    args = ap.parse_args()
+    args, cmd = scanner_bench.peer_script_arguments(__doc__, "bench/heavy_noise.py")
     started = time.time()
     work = REPO / "bench" / "out" / ("heavy_quick" if args.quick else "heavy")
     work.mkdir(parents=True, exist_ok=True)
-    runner = bench.Runner(pathlib.Path(args.build).resolve(), work)
     cases = make_cases(work, args.quick)
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
-    runner.start_xvfb()
-    try:
-        machine = bench.machine_info()
-        tasks = [t for c in cases for t in scanner_bench.tasks_for(c, args.quick)]
-        tasks += [(c, "ours meshlabserver", o) for c in cases for o in STRONGER.values()]
-        runner.prefetch(tasks, args.jobs)
-        results = {}
-        for c in cases:
-            r = scanner_bench.collect(runner, c, args.quick)
-            for label, overrides in STRONGER.items():
-                r[label] = runner.quality(c, "ours meshlabserver", overrides)
-            results[c["name"]] = r
-    finally:
-        runner.stop_xvfb()
+    results, machine = scanner_bench.run_with_peers(args.build, work, cases, args.quick,
+                                                    args.jobs, STRONGER)
     elapsed = time.time() - started
     (work / "raw.json").write_text(json.dumps({"results": results, "machine": machine},
                                               indent=1, default=str))
-    cmd = "python3 bench/heavy_noise.py" + (" --quick" if args.quick else "") + \
-        (f" --build {args.build}" if args.build != str(REPO / "build") else "")
     lines = [f"Produced by `{cmd}` on {machine['date']}, commit {machine['commit']}, in "
              f"{elapsed / 60:.1f} min. Do not edit by hand: rerun the command.", "",
              f"Noise: bench/scanner_noise.py, {VIEWS} views, levels "

@@ -129,6 +129,43 @@ def collect(runner, case, quick):
     return r
 
 
+def peer_script_arguments(doc, script):
+    """The command line of the scripts that run this comparison on other cases
+    (bench/scanner_holdout.py, bench/heavy_noise.py), and the command to quote in their report."""
+    ap = argparse.ArgumentParser(description=doc.split("\n")[0])
+    ap.add_argument("--build", default=os.environ.get("SBS_BUILD_DIR", str(REPO / "build")))
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--out", default=str(REPO / "bench" / "SCANNER_METHOD.md"))
+    args = ap.parse_args()
+    cmd = f"python3 {script}" + (" --quick" if args.quick else "") + \
+        (f" --build {args.build}" if args.build != str(REPO / "build") else "")
+    return args, cmd
+
+
+def run_with_peers(build, work, cases, quick, jobs, extra=None):
+    """The cases' quality runs (ours in its three modes and with each of `extra`'s settings, label
+    -> overrides, through meshlabserver; the peers as tasks_for lists them) under one Xvfb, `jobs`
+    at a time. Returns (results by case name, as collect() and the extra labels, machine info)."""
+    extra = extra or {}
+    runner = bench.Runner(pathlib.Path(build).resolve(), work)
+    runner.start_xvfb()
+    try:
+        machine = bench.machine_info()
+        tasks = [t for c in cases for t in tasks_for(c, quick)]
+        tasks += [(c, "ours meshlabserver", o) for c in cases for o in extra.values()]
+        runner.prefetch(tasks, jobs)
+        results = {}
+        for c in cases:
+            r = collect(runner, c, quick)
+            for label, overrides in extra.items():
+                r[label] = runner.quality(c, "ours meshlabserver", overrides)
+            results[c["name"]] = r
+    finally:
+        runner.stop_xvfb()
+    return results, machine
+
+
 def meshlab_choice(r, which):
     """(label, scores) of the MeshLab filter with the lowest theta at its default ("default") or
     at its best sweep setting ("best")."""
@@ -188,9 +225,6 @@ def scanner_tables(cases, results, times, runs):
         sd_d, sd_b = r[SD + " default"], r[SD + " best"]
         peer_theta = min([x.get("theta_deg", 1e9) for x in (d, b, sd_d, sd_b)
                           if finite(x.get("theta_deg"))], default=None)
-        peer_ev = min([r[k].get("ev_1e3") for k in r if (k.endswith(" default") or
-                                                          k.endswith(" best"))
-                       and not k.startswith("ours") and finite(r[k].get("ev_1e3"))], default=None)
         cells = []
         for label in OURS:
             s = r[label]

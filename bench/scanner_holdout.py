@@ -15,9 +15,7 @@ noise that no rule of the filter was fitted on, written into bench/SCANNER_METHO
   MeshLab's four filters at defaults and best, the SD filter at defaults and best of its sweep).
 --quick: four meshes, the SD filter at its defaults only.
 """
-import argparse
 import json
-import os
 import pathlib
 import signal
 import sys
@@ -68,34 +66,19 @@ def make_cases(work, quick):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--build", default=os.environ.get("SBS_BUILD_DIR", str(REPO / "build")))
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("--quick", action="store_true")
-    ap.add_argument("--out", default=str(REPO / "bench" / "SCANNER_METHOD.md"))
-    args = ap.parse_args()
+    args, cmd = scanner_bench.peer_script_arguments(__doc__, "bench/scanner_holdout.py")
     started = time.time()
     work = REPO / "bench" / "out" / ("holdout_quick" if args.quick else "holdout")
     if (work / "runs").exists():
         import shutil
         shutil.rmtree(work / "runs")
     work.mkdir(parents=True, exist_ok=True)
-    runner = bench.Runner(pathlib.Path(args.build).resolve(), work)
     cases = make_cases(work, args.quick)
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
-    runner.start_xvfb()
-    try:
-        machine = bench.machine_info()
-        tasks = [t for c in cases for t in scanner_bench.tasks_for(c, args.quick)]
-        runner.prefetch(tasks, args.jobs)
-        results = {c["name"]: scanner_bench.collect(runner, c, args.quick) for c in cases}
-    finally:
-        runner.stop_xvfb()
+    results, machine = scanner_bench.run_with_peers(args.build, work, cases, args.quick, args.jobs)
     elapsed = time.time() - started
     (work / "raw.json").write_text(json.dumps({"results": results, "machine": machine},
                                               indent=1, default=str))
-    cmd = "python3 bench/scanner_holdout.py" + (" --quick" if args.quick else "") + \
-        (f" --build {args.build}" if args.build != str(REPO / "build") else "")
     lines = [f"Produced by `{cmd}` on {machine['date']}, commit {machine['commit']}, in "
              f"{elapsed / 60:.1f} min. Do not edit by hand: rerun the command.", "",
              f"Noise: bench/scanner_noise.py, level {LEVEL}, " +
