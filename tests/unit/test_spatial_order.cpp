@@ -309,7 +309,7 @@ TEST(ParallelSort, GivesStdSortsSequenceForShuffledSortedAndNearlySortedInput) {
   // evenly.
   const int saved = omp_get_max_threads();
   for (int threads : {1, 2, 3, 5, 8})
-    for (size_t size : {size_t(60001), size_t(7), size_t(1)}) {
+    for (size_t size : {size_t(59999), size_t(7), size_t(1)}) {
       omp_set_num_threads(threads);
       std::vector<std::pair<std::uint64_t, int>> part(shuffled.begin(), shuffled.begin() + size);
       std::vector<std::pair<std::uint64_t, int>> sorted = part;
