@@ -90,8 +90,9 @@ struct BandShrinkParams {
   // (empty or missing bands: 1, white). Multiplies the probe's band energies.
   std::vector<double> noise_colour;
   // Per band (finest first): the share of its Wiener shrinkage the band takes (missing: 1, all of
-  // it). The organic mode's bands beyond 128 pairs, there only when the user asks for more than
-  // the measured amount, take theirs in as the strength grows (organic_smooth.h).
+  // it; the local bands, whose gains are per vertex, always take all). The organic mode's bands
+  // beyond 128 pairs, there only when the user asks for more than the measured amount, take theirs
+  // in as the strength grows (organic_smooth.h).
   std::vector<double> shrink_share;
   // The finest bands (up to robust_max_pairs) compare the mesh's and the probe's energies as the
   // means of the values below robust_quantile, not of all: spikes (scan outliers, stray vertices

@@ -93,7 +93,7 @@ TEST(MemoryCheck, BothFiltersRefuseBeforeAllocatingWhenTheEstimateExceedsTheRoom
 
 // The parallel sort (spatial order, saliency grid) allocates only outside its parallel regions, so
 // a failed allocation reaches the caller as std::bad_alloc (the filter refuses) instead of
-// terminating an OpenMP thread; the values are left as a permutation of themselves.
+// terminating an OpenMP thread; the values are left as they were (the buffer comes first).
 TEST(MemoryCheck, ParallelSortPassesAnAllocationFailureToItsCaller) {
   if (kAddressSanitizer) GTEST_SKIP() << "address-space limits do not work under ASan";
   const int saved_parallel = vcg_ext::min_parallel_vertices;
@@ -103,6 +103,7 @@ TEST(MemoryCheck, ParallelSortPassesAnAllocationFailureToItsCaller) {
   std::vector<std::pair<std::uint64_t, int>> values(4000000); // 64 MB, its buffer as much again
   for (int i = 0; i < int(values.size()); ++i)
     values[i] = {std::uint64_t(values.size() - i) * 2654435761u % 1000003u, i};
+  const std::vector<std::pair<std::uint64_t, int>> before = values;
   bool threw = false;
   {
     AddressSpaceLimit limit(16e6);
@@ -114,6 +115,7 @@ TEST(MemoryCheck, ParallelSortPassesAnAllocationFailureToItsCaller) {
     }
   }
   EXPECT_TRUE(threw);
+  EXPECT_TRUE(values == before);
   vcg_ext::detail::parallelSort(values); // without the limit
   EXPECT_TRUE(std::is_sorted(values.begin(), values.end()));
   omp_set_num_threads(saved_threads);
