@@ -77,9 +77,8 @@ def table(cases, results):
                  key=lambda s: s.get("theta_deg", 1e9))
         ours = {"ours default": r["ours automatic (default)"],
                 **{k: r[k] for k in STRONGER}}
-        cells = {k: s for k, s in ours.items()}
-        cells["MeshLab"], cells["SD"] = best, sd
-        lowest = min(s.get("theta_deg", 1e9) for s in cells.values() if finite(s.get("theta_deg")))
+        lowest = min(s.get("theta_deg", 1e9) for s in (*ours.values(), best, sd)
+                     if finite(s.get("theta_deg")))
 
         def cell(s, note=""):
             t = s.get("theta_deg")

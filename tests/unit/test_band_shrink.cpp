@@ -622,7 +622,7 @@ TEST(OrganicSmooth, MoreStrengthKeepsActingPastTheCoarsestBand) {
   RecordProperty("without_bands", std::to_string(stopped));
   RecordProperty("with_bands", std::to_string(going));
   EXPECT_LT(stopped, 1e-3);
-  EXPECT_GT(going, 0.05);
+  EXPECT_NEAR(going, 0.216, 0.03); // measured 0.216 mean edge lengths
   // Continuous at strength 1: the new band comes in with (almost) none of its shrinkage.
   EXPECT_LT(largestDifference(run(1.0, 4), run(1.0 + 1e-6, 4)) / edge, 1e-3);
 }
