@@ -290,6 +290,33 @@ struct DriverSetup {
   double input_spread_deg = NAN; // the input's median dihedral spread, once read (inputSpreadDeg)
 };
 
+// What a driver's report says of its set-up: scale, closedness, the vertices it may not move
+// and the input's volume (FeatureSmoothReport, OrganicSmoothReport).
+template <class Report> void reportSetup(const DriverSetup &setup, Report &report) {
+  report.mean_edge_length = setup.stats.mean_edge_length;
+  report.bbox_diagonal = setup.stats.bbox_diagonal;
+  report.closed = setup.closed;
+  report.frozen_vertices = setup.frozen_vertices;
+  report.boundary_vertices = setup.boundary_vertices;
+  report.volume_before = setup.volume_before;
+}
+
+// A driver's last step: the result's quantities for inspection (describeResult, timed), its
+// volume, and the result handed to the caller (`result` is left empty).
+template <class Report>
+void finishDriver(const MeshArrays &mesh, const Rings &rings, double saliency_scale,
+                  std::vector<Vec3> &result, std::vector<Vec3> &out_points,
+                  VertexQuantities &quantities, Report &report) {
+  const auto start = std::chrono::steady_clock::now();
+  report.vertices_moved =
+      describeResult(mesh.points, result, mesh.faces, rings, saliency_scale, quantities);
+  report.seconds_quantities =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.volume_after = signedVolume(result, mesh.faces);
+  out_points.swap(result);
+  std::vector<Vec3>().swap(result);
+}
+
 // The input's median dihedral spread (normal_filter.h), measured once per set-up (by the noise
 // estimate, or here on first use): the automatic mode runs both drivers on one set-up, and both
 // read it (a second of 2M vertices).

@@ -197,6 +197,111 @@ inline FeaturePassCounts featurePassCounts(const MeshArrays &mesh, const Feature
 
 namespace detail {
 
+// Meshes of planar faces take more normal filter iterations and vertex updates, by the share of
+// edges flat after the first guidance period (FeatureSmoothParams::planar_extra).
+inline void addPlanarExtra(double flat_share, const FeatureSmoothParams &params,
+                           int &normal_iterations, int &vertex_iterations) {
+  const double extra =
+      params.planar_extra * std::clamp((flat_share - params.planar_share_from) /
+                                           (params.planar_share_full - params.planar_share_from),
+                                       0.0, 1.0);
+  normal_iterations = int(std::lround(normal_iterations * (1 + extra * params.planar_normal_share)));
+  vertex_iterations = int(std::lround(vertex_iterations * (1 + extra * params.planar_vertex_share)));
+}
+
+// Each movable vertex's tangent projector from the filtered normals of its faces
+// (featureTangentProjector); zero on the boundary and for fixed vertices.
+inline void featureTangentProjectors(const Rings &rings, const std::vector<std::uint8_t> &fixed,
+                                     const std::vector<Vec3> &filtered,
+                                     std::vector<SymmetricMatrix3> &projector) {
+  const int n = int(fixed.size());
+  projector.resize(n);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+  for (int v = 0; v < n; ++v)
+    projector[v] = packSymmetric(rings.boundary[v] || fixed[v]
+                                     ? Eigen::Matrix3d::Zero()
+                                     : featureTangentProjector(v, rings, filtered));
+}
+
+// Which vertices the tangential relaxation moves: those on or within `relax_rings` rings of a
+// folded face (one whose normal is farther than `fold_cos` from its filtered normal), so that a
+// clean or unfolded mesh keeps its triangulation. `folded` and `scratch` are work buffers.
+inline void markVerticesNearFolds(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                  const std::vector<Vec3> &filtered, const Rings &rings,
+                                  double fold_cos, int relax_rings,
+                                  std::vector<std::uint8_t> &folded,
+                                  std::vector<std::uint8_t> &relax,
+                                  std::vector<std::uint8_t> &scratch) {
+  const int n = int(points.size()), face_count = int(faces.size());
+  folded.resize(face_count);
+#pragma omp parallel for schedule(static) if (face_count >= min_parallel_vertices)
+  for (int f = 0; f < face_count; ++f) {
+    double len;
+    folded[f] = unitFaceNormal(points[faces[f][0]], points[faces[f][1]], points[faces[f][2]], len)
+                    .dot(filtered[f]) < fold_cos;
+  }
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+  for (int v = 0; v < n; ++v) {
+    std::uint8_t near = 0;
+    for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v) && !near; ++f) near = folded[*f];
+    relax[v] = near;
+  }
+  for (int ring = 0; ring < relax_rings; ++ring) {
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+    for (int v = 0; v < n; ++v) {
+      std::uint8_t near = relax[v];
+      for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v) && !near; ++w) near = relax[*w];
+      scratch[v] = near;
+    }
+    relax.swap(scratch);
+  }
+}
+
+// What one vertex update reads besides the positions: the filtered normals and either the face
+// patches or the face centroids, the tangential relaxation's projectors and marks, and the
+// boundary's vertex normals.
+struct FeatureMoveInputs {
+  const std::vector<Vec3> &filtered;
+  const FacePatches *patches; // null: onto the filtered face planes through `centroid`
+  const std::vector<Vec3> &centroid;
+  const std::vector<SymmetricMatrix3> &tangent_projector;
+  const std::vector<std::uint8_t> &relax;
+  const std::vector<Vec3> &vertex_normals;
+};
+
+// One Jacobi sweep of the vertex update: each movable vertex onto its faces' patches (or filtered
+// planes), plus the tangential relaxation where marked, kept off the inward direction on the
+// boundary. Returns the number of non-finite moves (those vertices stay).
+inline long featureVertexSweep(const std::vector<Vec3> &current, const DriverSetup &setup,
+                               const FeatureSmoothParams &params, double edge,
+                               const FeatureMoveInputs &in, std::vector<Vec3> &next) {
+  const Rings &rings = setup.rings;
+  const int n = int(current.size());
+  long rejected = 0;
+#pragma omp parallel for schedule(static) reduction(+ : rejected) if (parallelHeavy(n))
+  for (int v = 0; v < n; ++v) {
+    next[v] = current[v];
+    if (setup.fixed[v] || rings.ring1Size(v) == 0) continue;
+    Vec3 moved = in.patches ? moveOntoFacePatches(v, current[v], rings, *in.patches)
+                            : moveOntoFacePlanes(v, current[v], rings, in.centroid, in.filtered,
+                                                 edge);
+    if (params.tangential > 0 && in.relax[v]) {
+      Vec3 centre = Vec3::Zero();
+      for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) centre += current[*w];
+      const Vec3 step = centre / rings.ring1Size(v) - current[v];
+      // On the boundary, the rule below keeps what may stay of the step.
+      moved += params.tangential *
+               (rings.boundary[v] ? step : Vec3(unpackSymmetric(in.tangent_projector[v]) * step));
+    }
+    if (rings.boundary[v])
+      moved = constrainBoundaryMove(v, moved, current, in.vertex_normals, setup.roles,
+                                    params.boundary);
+    if (moved.allFinite()) next[v] = moved;
+    else ++rejected;
+  }
+  return rejected;
+}
+
 // The driver on `mesh` as given (featureSmoothMesh runs it in spatial order).
 inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
                                                 const FeatureSmoothParams &params,
@@ -211,26 +316,15 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   };
   FeatureSmoothReport report;
   const int n = int(mesh.points.size());
-  const int face_count = int(mesh.faces.size());
   auto t = clock::now();
-  std::optional<detail::DriverSetup> own_setup;
-  if (!given_setup)
-    own_setup.emplace(detail::driverSetup(mesh, params.selected_only, params.boundary));
-  detail::DriverSetup &setup = given_setup ? *given_setup : *own_setup;
-  detail::ensureFaceRings(mesh, setup);
+  std::optional<DriverSetup> own_setup;
+  if (!given_setup) own_setup.emplace(driverSetup(mesh, params.selected_only, params.boundary));
+  DriverSetup &setup = given_setup ? *given_setup : *own_setup;
+  ensureFaceRings(mesh, setup);
   const Rings &rings = setup.rings;
-  const EdgeStatistics &stats = setup.stats;
-  const detail::VertexRoles &roles = setup.roles;
-  const FaceRings &face_rings = setup.face_rings;
-  const std::vector<std::uint8_t> &fixed = setup.fixed;
-  report.mean_edge_length = stats.mean_edge_length;
-  report.bbox_diagonal = stats.bbox_diagonal;
-  report.closed = setup.closed;
-  report.frozen_vertices = setup.frozen_vertices;
-  report.boundary_vertices = setup.boundary_vertices;
-  report.volume_before = setup.volume_before;
+  reportSetup(setup, report);
   report.seconds_topology = seconds(t);
-  const double edge = stats.mean_edge_length;
+  const double edge = setup.stats.mean_edge_length;
   const int outer = std::max(0, params.outer_iterations);
   auto report_progress = [&](int pass, double fraction, const char *stage) {
     if (!progress) return true;
@@ -240,18 +334,11 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
 
   std::vector<Vec3> current = mesh.points;
   t = clock::now();
-  // How much smoothing the mesh needs (measuredRoughness): nothing where the noise estimate reads
-  // clean (noise_estimate.h); else from the median spread of the signed dihedral angles around a
-  // face, none up to `clean_spread_deg`, all from `noisy_spread_deg`, linearly in between, or
-  // from the noise level, whichever is larger. Measured: clean meshes 0 (CAD models), ~10 (bunny, lion head,
-  // SharpSphere), 23 and 31 (the coarse armadillo and elephant); noise along the normals of
-  // 0.05 / 0.1 / 0.15 / 0.2 / 0.3 mean edge lengths 12-15 / 23-29 / 34-42 / 44-53 / 62-72; the
-  // public benchmark's noisy meshes 52-81. It scales every pass count: the pre-pass rounds creases
-  // that the rest only partly restores (a clean box ends at 1.1° instead of 0.3°), and even one
-  // filter iteration followed by the vertex updates flattens a coarse organic mesh (clean
-  // armadillo: 11°; clean elephant at r = 0.3: 11°), hence the estimate's clean/noisy decision
-  // first: light noise and real scans' noise (spread 14-26°) are smoothed, coarse clean meshes
-  // (23-31°) are not.
+  // How much smoothing the mesh needs: the noise estimate's roughness (measuredRoughness: none
+  // where it reads clean, light noise and real scans' noise included) scales every pass count.
+  // The pre-pass rounds creases that the rest only partly restores, and even one filter
+  // iteration followed by the vertex updates flattens a coarse organic mesh (clean armadillo:
+  // 11°), hence the clean/noisy decision first (bench/NOISE_ESTIMATE.md).
   const FeaturePassCounts counts = featurePassCounts(mesh, params, setup);
   report.dihedral_spread_deg = counts.spread_deg;
   report.noise = setup.noise;
@@ -260,11 +347,10 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   report.tail_factor = counts.tail_factor;
   report.prepass_pairs = counts.prepass_pairs;
   NormalFilterParams normal_filter = params.normals;
-  normal_filter.iterations = counts.normal_iterations;
-  report.normal_iterations = normal_filter.iterations;
-  int vertex_iterations = counts.vertex_iterations;
-  report.vertex_iterations = vertex_iterations;
-  if (edge > 0) taubinSmooth(current, rings, fixed, roles.boundary_neighbours, report.prepass_pairs);
+  normal_filter.iterations = report.normal_iterations = counts.normal_iterations;
+  int vertex_iterations = report.vertex_iterations = counts.vertex_iterations;
+  if (edge > 0)
+    taubinSmooth(current, rings, setup.fixed, setup.roles.boundary_neighbours, report.prepass_pairs);
   report.seconds_prepass = seconds(t);
   if (!report_progress(0, 0.05, "Taubin pre-pass")) return report.cancelled = true, report;
 
@@ -272,11 +358,11 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   // the patch fits' do not add up with each other's.
   std::vector<Vec3> filtered, next, vertex_normals, centroid;
   FacePatches patches;
-  std::vector<detail::SymmetricMatrix3> tangent_projector;
-  std::vector<std::uint8_t> relax(n, 1), relax_next(n, 1), folded;
+  std::vector<SymmetricMatrix3> tangent_projector;
+  std::vector<std::uint8_t> relax(n, 1), relax_scratch(n, 1), folded;
   for (int pass = 0; pass < outer && edge > 0; ++pass) {
     t = clock::now();
-    std::vector<detail::SymmetricMatrix3>().swap(tangent_projector);
+    std::vector<SymmetricMatrix3>().swap(tangent_projector);
     std::vector<Vec3>().swap(next);
     std::vector<Vec3>().swap(centroid);
     std::vector<Vec3>().swap(vertex_normals);
@@ -296,37 +382,23 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
       if (scale_by_flatness) {
         // Edge by edge, as the planar extra passes were fitted (bench/SCANNER_METHOD.md); on a
         // fine curved mesh this reads high, but the automatic choice sends those to the organic mode.
-        report.flat_share = sharpFeatureEvidence(normals, normals, face_rings).flat_share;
-        const double extra = params.planar_extra *
-                             std::clamp((report.flat_share - params.planar_share_from) /
-                                            (params.planar_share_full - params.planar_share_from),
-                                        0.0, 1.0);
-        normal_filter.iterations =
-            int(std::lround(normal_filter.iterations * (1 + extra * params.planar_normal_share)));
-        vertex_iterations = int(std::lround(vertex_iterations * (1 + extra * params.planar_vertex_share)));
+        report.flat_share = sharpFeatureEvidence(normals, normals, setup.face_rings).flat_share;
+        addPlanarExtra(report.flat_share, params, normal_filter.iterations, vertex_iterations);
         report.normal_iterations = normal_filter.iterations;
         report.vertex_iterations = vertex_iterations;
       }
       return normal_filter.iterations;
     };
-    filterNormalsInPlace(current, mesh.faces, face_rings, normal_filter, edge, filtered,
+    filterNormalsInPlace(current, mesh.faces, setup.face_rings, normal_filter, edge, filtered,
                          check_iterations, check);
     if (declined) {
       report.seconds_normals += seconds(t);
       return report.declined = true, report;
     }
     next.resize(n);
-    if (params.tangential > 0) {
-      tangent_projector.resize(n);
-#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
-      for (int v = 0; v < n; ++v)
-        tangent_projector[v] = detail::packSymmetric(
-            rings.boundary[v] || fixed[v] ? Eigen::Matrix3d::Zero()
-                                          : detail::featureTangentProjector(v, rings, filtered));
-    }
+    if (params.tangential > 0) featureTangentProjectors(rings, setup.fixed, filtered, tangent_projector);
     // After the last filtering nothing reads the faces' edge neighbours.
-    if (pass == outer - 1)
-      std::vector<std::array<int, 3>>().swap(setup.face_rings.edge_neighbours);
+    if (pass == outer - 1) std::vector<std::array<int, 3>>().swap(setup.face_rings.edge_neighbours);
     report.seconds_normals += seconds(t);
     if (!report_progress(pass, 0.4, "Filtering normals")) return report.cancelled = true, report;
 
@@ -335,74 +407,28 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
       // Patches refine the last pass only: measured, earlier passes gain little from them for
       // their cost (a fit per face is most of a pass's time).
       const bool use_patches = pass == outer - 1 && it >= vertex_iterations - params.patch_iterations;
-      long fallbacks = 0, rejected = 0;
-      if (!use_patches) computeFaceCentroids(current, mesh.faces, centroid);
       if (use_patches) {
         std::vector<Vec3>().swap(centroid);
         const std::vector<double> face_alpha =
             params.alpha_override ? std::vector<double>()
-                                  : detail::saliencyFaceAlpha(current, mesh.faces, setup,
-                                                              params.saliency_scale * stats.bbox_diagonal);
-        fallbacks = fitFacePatches(current, mesh.faces, face_rings, filtered, edge, params.patches,
-                                   face_alpha, patches);
+                                  : saliencyFaceAlpha(current, mesh.faces, setup,
+                                                      params.saliency_scale * setup.stats.bbox_diagonal);
+        report.plane_fallbacks += fitFacePatches(current, mesh.faces, setup.face_rings, filtered,
+                                                 edge, params.patches, face_alpha, patches);
+      } else {
+        computeFaceCentroids(current, mesh.faces, centroid);
       }
       // Boundary moves keep off the inward direction, which needs the surface normal there.
       if (report.boundary_vertices)
         computeBoundaryVertexNormals(current, mesh.faces, rings, vertex_normals);
-      // Folds: faces whose normal is far from their filtered normal; the relaxation works around
-      // them only, so a clean or unfolded mesh keeps its triangulation.
-      if (params.tangential > 0 && params.relax_rings >= 0) {
-        folded.resize(face_count);
-#pragma omp parallel for schedule(static) if (face_count >= min_parallel_vertices)
-        for (int f = 0; f < face_count; ++f) {
-          const Face &t = mesh.faces[f];
-          double len;
-          folded[f] = detail::unitFaceNormal(current[t[0]], current[t[1]], current[t[2]], len)
-                          .dot(filtered[f]) < params.fold_cos;
-        }
-#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
-        for (int v = 0; v < n; ++v) {
-          std::uint8_t near = 0;
-          for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v) && !near; ++f)
-            near = folded[*f];
-          relax[v] = near;
-        }
-        for (int ring = 0; ring < params.relax_rings; ++ring) {
-#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
-          for (int v = 0; v < n; ++v) {
-            std::uint8_t near = relax[v];
-            for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v) && !near; ++w)
-              near = relax[*w];
-            relax_next[v] = near;
-          }
-          relax.swap(relax_next);
-        }
-      }
-#pragma omp parallel for schedule(static) reduction(+ : rejected) if (parallelHeavy(n))
-      for (int v = 0; v < n; ++v) {
-        next[v] = current[v];
-        if (fixed[v] || rings.ring1Size(v) == 0) continue;
-        Vec3 moved = use_patches ? moveOntoFacePatches(v, current[v], rings, patches)
-                                 : moveOntoFacePlanes(v, current[v], rings, centroid, filtered,
-                                                      edge);
-        if (params.tangential > 0 && relax[v]) {
-          Vec3 centre = Vec3::Zero();
-          for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) centre += current[*w];
-          const Vec3 step = centre / rings.ring1Size(v) - current[v];
-          // On the boundary, the rule below keeps what may stay of the step.
-          moved += params.tangential *
-                   (rings.boundary[v] ? step
-                                      : Vec3(detail::unpackSymmetric(tangent_projector[v]) * step));
-        }
-        if (rings.boundary[v])
-          moved = detail::constrainBoundaryMove(v, moved, current, vertex_normals, roles,
-                                                params.boundary);
-        if (moved.allFinite()) next[v] = moved;
-        else ++rejected;
-      }
+      if (params.tangential > 0 && params.relax_rings >= 0)
+        markVerticesNearFolds(current, mesh.faces, filtered, rings, params.fold_cos,
+                              params.relax_rings, folded, relax, relax_scratch);
+      const FeatureMoveInputs inputs{filtered,          use_patches ? &patches : nullptr,
+                                     centroid,          tangent_projector,
+                                     relax,             vertex_normals};
+      report.rejected_moves += featureVertexSweep(current, setup, params, edge, inputs, next);
       current.swap(next);
-      report.plane_fallbacks += fallbacks;
-      report.rejected_moves += rejected;
       if (!report_progress(pass, 0.4 + 0.6 * (it + 1) / vertex_iterations, "Moving vertices"))
         return report.cancelled = true, report;
     }
@@ -411,7 +437,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   }
 
   if (params.preserve_volume && report.closed && vertex_iterations > 0 && edge > 0)
-    detail::restoreInputVolume(current, setup, mesh.faces, vertex_normals);
+    restoreInputVolume(current, setup, mesh.faces, vertex_normals);
 
   // Only the result and the rings are read from here on: the result quantities' peak (saliency)
   // should not stack on the iterations' buffers.
@@ -420,15 +446,10 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   std::vector<Vec3>().swap(vertex_normals);
   std::vector<Vec3>().swap(centroid);
   patches = FacePatches();
-  std::vector<detail::SymmetricMatrix3>().swap(tangent_projector);
+  std::vector<SymmetricMatrix3>().swap(tangent_projector);
   setup.face_rings = FaceRings();
-  t = clock::now();
-  report.vertices_moved = detail::describeResult(mesh.points, current, mesh.faces, rings,
-                                                 params.saliency_scale * stats.bbox_diagonal,
-                                                 quantities);
-  report.seconds_quantities = seconds(t);
-  report.volume_after = signedVolume(current, mesh.faces);
-  out_points.swap(current);
+  finishDriver(mesh, rings, params.saliency_scale * setup.stats.bbox_diagonal, current, out_points,
+               quantities, report);
   return report;
 }
 

@@ -126,12 +126,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   const detail::VertexRoles &roles = setup.roles;
   const std::vector<std::uint8_t> &fixed = setup.fixed;
   const double edge = setup.stats.mean_edge_length;
-  report.mean_edge_length = edge;
-  report.bbox_diagonal = setup.stats.bbox_diagonal;
-  report.closed = setup.closed;
-  report.frozen_vertices = setup.frozen_vertices;
-  report.boundary_vertices = setup.boundary_vertices;
-  report.volume_before = setup.volume_before;
+  detail::reportSetup(setup, report);
   report.dihedral_spread_deg = detail::inputSpreadDeg(mesh, setup);
   report.noise = setup.noise;
   report.roughness = detail::measuredRoughness(setup.noise, report.dihedral_spread_deg,
@@ -234,13 +229,8 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   if (progress && !progress(95, "Result quantities")) return report.cancelled = true, report;
   // Only the result and the rings are read from here on (feature_smooth.h: the same).
   setup.face_rings = FaceRings();
-  t = clock::now();
-  report.vertices_moved = detail::describeResult(mesh.points, current, mesh.faces, rings,
-                                                 params.saliency_scale * setup.stats.bbox_diagonal,
-                                                 quantities);
-  report.seconds_quantities = seconds(t);
-  report.volume_after = signedVolume(current, mesh.faces);
-  out_points.swap(current);
+  detail::finishDriver(mesh, rings, params.saliency_scale * setup.stats.bbox_diagonal, current,
+                       out_points, quantities, report);
   return report;
 }
 
