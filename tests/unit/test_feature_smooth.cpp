@@ -270,3 +270,101 @@ TEST(FeatureSmooth, BuildsTheFaceRingsWhenTheSetUpHasNone) {
   EXPECT_EQ(ra.vertices_moved, rb.vertices_moved);
   EXPECT_GT(ra.vertices_moved, long(noisy.points.size()) / 2);
 }
+
+// The planar extra (FeatureSmoothParams::planar_extra): none up to planar_share_from, linear to
+// twice the counts at planar_share_full (the defaults 0.3 / 0.45, extra 1), rounded.
+TEST(FeatureSmoothStages, PlanarExtraScalesTheCountsByTheFlatShare) {
+  const FeatureSmoothParams params;
+  auto counts = [&](double flat_share) {
+    int normal = 10, vertex = 6;
+    detail::addPlanarExtra(flat_share, params, normal, vertex);
+    return std::make_pair(normal, vertex);
+  };
+  EXPECT_EQ(counts(0.1), std::make_pair(10, 6));
+  EXPECT_EQ(counts(0.3), std::make_pair(10, 6));
+  EXPECT_EQ(counts(0.375), std::make_pair(15, 9)); // half way: 1.5 times
+  EXPECT_EQ(counts(0.45), std::make_pair(20, 12));
+  EXPECT_EQ(counts(0.9), std::make_pair(20, 12));
+  FeatureSmoothParams off = params;
+  off.planar_extra = 0;
+  int normal = 10, vertex = 6;
+  detail::addPlanarExtra(0.9, off, normal, vertex);
+  EXPECT_EQ(normal, 10);
+  EXPECT_EQ(vertex, 6);
+}
+
+// A fold marks the vertices of the folded face and, per relax ring, one ring more; an unfolded
+// mesh marks none (its triangulation is kept).
+TEST(FeatureSmoothStages, FoldMarksGrowByOneRingPerRelaxRing) {
+  const MeshArrays plane = test_meshes::heightField(9, 0, 1, 0, 1, [](double, double) { return 0.0; });
+  const Rings rings = computeRings(int(plane.points.size()), plane.faces);
+  std::vector<Vec3> filtered;
+  computeFaceNormals(plane.points, plane.faces, filtered);
+  std::vector<std::uint8_t> folded, relax(plane.points.size()), scratch(plane.points.size());
+  auto marked = [&](const std::vector<Vec3> &normals, int relax_rings) {
+    detail::markVerticesNearFolds(plane.points, plane.faces, normals, rings, 0.5, relax_rings,
+                                  folded, relax, scratch);
+    return std::count(relax.begin(), relax.end(), 1);
+  };
+  EXPECT_EQ(marked(filtered, 0), 0);
+  EXPECT_EQ(marked(filtered, 2), 0);
+  // One face whose filtered normal points the other way: that face is folded.
+  const int centre_face = int(plane.faces.size()) / 2;
+  std::vector<Vec3> flipped = filtered;
+  flipped[centre_face] = -flipped[centre_face];
+  EXPECT_EQ(marked(flipped, 0), 3);
+  EXPECT_EQ(std::count(folded.begin(), folded.end(), 1), 1);
+  // Each ring adds the 1-ring of what is marked: strictly more, and a superset.
+  const std::vector<std::uint8_t> ring0 = relax;
+  const long one = marked(flipped, 1);
+  const std::vector<std::uint8_t> ring1 = relax;
+  const long two = marked(flipped, 2);
+  EXPECT_GT(one, 3);
+  EXPECT_GT(two, one);
+  for (size_t v = 0; v < ring0.size(); ++v) {
+    EXPECT_LE(ring0[v], ring1[v]);
+    EXPECT_LE(ring1[v], relax[v]);
+  }
+  // One ring around a triangle in the interior of this grid: its 3 vertices and their neighbours.
+  std::vector<std::uint8_t> expected(plane.points.size(), 0);
+  for (int c = 0; c < 3; ++c) {
+    const int v = plane.faces[centre_face][c];
+    expected[v] = 1;
+    for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) expected[*w] = 1;
+  }
+  EXPECT_EQ(ring1, expected);
+}
+
+// The vertex sweep onto the filtered planes leaves a flat mesh where it is when the filtered
+// normals are its own, moves a lifted vertex back to the plane, and counts non-finite moves.
+TEST(FeatureSmoothStages, VertexSweepMovesOntoTheFilteredPlanes) {
+  MeshArrays plane = test_meshes::heightField(9, 0, 1, 0, 1, [](double, double) { return 0.0; });
+  const detail::DriverSetup setup = detail::driverSetup(plane, false);
+  std::vector<Vec3> filtered, centroid, next(plane.points.size());
+  computeFaceNormals(plane.points, plane.faces, filtered);
+  const int lifted = 40; // an interior vertex of the 9×9 grid
+  ASSERT_FALSE(setup.rings.boundary[lifted]);
+  std::vector<Vec3> current = plane.points;
+  current[lifted].z() = 0.05;
+  computeFaceCentroids(current, plane.faces, centroid);
+  FeatureSmoothParams params;
+  params.tangential = 0;
+  const std::vector<detail::SymmetricMatrix3> no_projectors;
+  const std::vector<std::uint8_t> no_relax(plane.points.size(), 0);
+  std::vector<Vec3> vertex_normals; // the boundary's moves read them
+  computeBoundaryVertexNormals(current, plane.faces, setup.rings, vertex_normals);
+  const detail::FeatureMoveInputs inputs{filtered, nullptr, centroid, no_projectors, no_relax,
+                                         vertex_normals};
+  const double edge = setup.stats.mean_edge_length;
+  EXPECT_EQ(detail::featureVertexSweep(current, setup, params, edge, inputs, next), 0);
+  // The lifted vertex moves onto the mean of its faces' planes: horizontal, through centroids
+  // lifted by a third of its height.
+  EXPECT_NEAR(next[lifted].z(), 0.05 / 3, 1e-12);
+  EXPECT_NEAR(next[lifted].x(), current[lifted].x(), 1e-12);
+  // Vertices away from it stay exactly (their planes pass through them).
+  const int far = 10;
+  EXPECT_EQ(next[far], current[far]);
+  // A non-finite position is not moved and is counted.
+  current[far] = Vec3(std::nan(""), 0, 0);
+  EXPECT_EQ(detail::featureVertexSweep(current, setup, params, edge, inputs, next), 1);
+}
