@@ -308,192 +308,237 @@ localBandGains(const SpatialTaubin &taubin, const Rings &rings,
 }
 } // namespace detail
 
-// Smooths `points` in place (see the file comment). `progress(fraction)` may return false to
-// cancel; `points` are then left as they were.
-inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::vector<Face> &faces,
-                                         const Rings &rings, const std::vector<std::uint8_t> &fixed,
-                                         const std::vector<std::array<int, 2>> &curve,
-                                         const BandShrinkParams &params,
-                                         const std::function<bool(double)> &progress = nullptr) {
-  BandShrinkReport report;
-  const int n = rings.vertex_count;
-  const std::vector<int> &edges = params.band_pairs;
-  const int bands = int(edges.size()) - 1;
-  if (bands < 1 || n == 0) return report;
-  std::vector<Vec3> normals;
-  computeVertexNormals(points, faces, rings, normals);
-  report.noise_sigma =
-      params.noise_scale * (params.given_noise_sigma > 0
-                                ? params.given_noise_sigma
-                                : estimateNormalNoiseSigma(points, rings, fixed, normals));
-  if (params.min_noise_edges > 0)
-    report.noise_sigma = std::max(report.noise_sigma, params.min_noise_edges *
-                                                          edgeStatistics(points, rings).mean_edge_length);
-  if (!(report.noise_sigma > 0)) {
-    report.gains.assign(bands, 1.0);
-    return report;
-  }
+namespace detail {
 
-  // The probe hashes each vertex's position in the mesh's own frame: from the lowest corner of the
-  // faces' bounding box, in cells of 1/16 mean edge length (coarse enough that float rounding of a
-  // moved or scaled mesh rarely changes a cell, fine enough that two vertices rarely share one).
-  // Raw coordinates gave another probe, and a result 1e-3 of the bbox diagonal away, when the mesh
-  // was scaled or moved (or gained an isolated vertex that widened the box).
-  // (`points` stay as they are until the end: the keys are computed where they are needed.)
+// The noise's std along the normals that the gains are measured against: given or estimated
+// (estimateNormalNoiseSigma), scaled by noise_scale, at least min_noise_edges mean edge lengths.
+inline double bandNoiseSigma(const std::vector<Vec3> &points, const Rings &rings,
+                             const std::vector<std::uint8_t> &fixed,
+                             const std::vector<Vec3> &normals, const BandShrinkParams &params) {
+  double sigma = params.noise_scale * (params.given_noise_sigma > 0
+                                           ? params.given_noise_sigma
+                                           : estimateNormalNoiseSigma(points, rings, fixed, normals));
+  if (params.min_noise_edges > 0)
+    sigma = std::max(sigma, params.min_noise_edges * edgeStatistics(points, rings).mean_edge_length);
+  return sigma;
+}
+
+// The noise probe: Gaussian values of std `sigma` hashed from each vertex's position in the
+// mesh's own frame, from the lowest corner of the faces' bounding box, in cells of 1/16 mean edge
+// length (coarse enough that float rounding of a moved or scaled mesh rarely changes a cell, fine
+// enough that two vertices rarely share one). Raw coordinates gave another probe, and a result
+// 1e-3 of the bbox diagonal away, when the mesh was scaled or moved (or gained an isolated vertex
+// that widened the box). Kept in single precision: only its band energies are read (sums of
+// squares in double), and the rounding noise of its Taubin steps, ~1e-7 of its values, lies far
+// below the energy of even its coarsest band; half of every step's memory traffic.
+struct NoiseProbe {
+  const std::vector<Vec3> &points;
+  const Rings &rings;
+  const SpatialTaubin &taubin;
+  double sigma = 0, cell = 0;
   Vec3 lowest = Vec3::Constant(INFINITY);
-  for (int v = 0; v < n; ++v)
-    if (rings.ring1Size(v) > 0) lowest = lowest.cwiseMin(points[v]);
-  const double mean_edge = edgeStatistics(points, rings).mean_edge_length;
-  const double cell = mean_edge / 16.0;
-  auto probe_key = [&](int v) {
+
+  NoiseProbe(const std::vector<Vec3> &points_, const Rings &rings_, const SpatialTaubin &taubin_,
+             double sigma_, double mean_edge)
+      : points(points_), rings(rings_), taubin(taubin_), sigma(sigma_), cell(mean_edge / 16.0) {
+    for (int v = 0; v < rings.vertex_count; ++v)
+      if (rings.ring1Size(v) > 0) lowest = lowest.cwiseMin(points[v]);
+  }
+  Vec3 key(int v) const {
     return cell > 0 && rings.ring1Size(v) > 0 ? Vec3(((points[v] - lowest) / cell).array().floor())
                                               : Vec3::Zero();
-  };
-  // The scale space and the probe's, one Taubin run for both; the probe's bands are consumed at
-  // once. Both live in the renumbered order of `taubin`; every sum below runs in vertex order.
-  const SpatialTaubin taubin(points, rings, fixed, curve, params.given_order);
-  std::vector<std::uint8_t> counted(n);
-  long count = 0;
-  for (int v = 0; v < n; ++v) {
-    counted[v] = !fixed[v] && rings.ring1Size(v) > 0;
-    count += counted[v];
   }
-  if (count == 0) {
-    report.gains.assign(bands, 1.0);
-    return report;
-  }
-  // The probe is kept in single precision: only its band energies are read (sums of squares in
-  // double), and the rounding noise of its Taubin steps, ~1e-7 of its values, lies orders of
-  // magnitude below the energy of even its coarsest band; half the probe's memory traffic, which
-  // is half of every step's.
-  auto hashed_probe = [&](std::uint64_t stream, std::vector<Vec3f> &probe) {
+  // The probe of `stream` (independent streams for the same positions), in the taubin's order.
+  void make(std::uint64_t stream, std::vector<Vec3f> &probe) const {
+    const int n = rings.vertex_count;
     probe.resize(n);
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
     for (int v = 0; v < n; ++v)
-      probe[taubin.local(v)] =
-          (report.noise_sigma * detail::positionHashedGaussian(probe_key(v), stream)).cast<float>();
-  };
+      probe[taubin.local(v)] = (sigma * positionHashedGaussian(key(v), stream)).cast<float>();
+  }
+};
+
+// The vertices whose values the band energies sum (movable, with a ring), and each one's slot
+// among them: per-vertex terms are written in parallel and summed in vertex order after, which
+// gives the serial loops' bits.
+struct CountedVertices {
+  std::vector<std::uint8_t> counted;
+  std::vector<int> slot;
+  long count = 0;
+
+  CountedVertices(const Rings &rings, const std::vector<std::uint8_t> &fixed)
+      : counted(rings.vertex_count), slot(rings.vertex_count, -1) {
+    for (int v = 0; v < rings.vertex_count; ++v) {
+      counted[v] = !fixed[v] && rings.ring1Size(v) > 0;
+      if (counted[v]) slot[v] = int(count++);
+    }
+  }
+  double sum(const std::vector<double> &term) const {
+    double total = 0;
+    for (size_t v = 0; v < counted.size(); ++v)
+      if (counted[v]) total += term[v];
+    return total;
+  }
+};
+
+// Mean of the values below the robust quantile (reorders x).
+inline double trimmedMean(std::vector<double> &x, double quantile) {
+  if (x.empty()) return 0.0;
+  const size_t keep = std::max<size_t>(1, size_t(quantile * double(x.size())));
+  std::nth_element(x.begin(), x.begin() + (keep - 1), x.end());
+  double sum = 0;
+  for (size_t i = 0; i < keep; ++i) sum += x[i];
+  return sum / double(keep);
+}
+
+// Only the finest bands are trimmed (BandShrinkParams::robust_quantile, robust_max_pairs): the
+// others need no per-value copy.
+inline bool trimmedBand(const BandShrinkParams &params, int b) {
+  return params.robust_quantile < 1.0 && params.band_pairs[b + 1] <= params.robust_max_pairs;
+}
+
+// The mesh's scale space as its bands, band[b] = snapshot b − snapshot b+1 in single precision (a
+// band is a small difference of positions: its float rounding is ~1e-7 of the band, far below
+// anything the gains resolve), and the coarsest snapshot in double (12 instead of 24 bytes per
+// vertex and band), in the taubin's order; with the probe's energy per band (its sum over the
+// counted vertices, per component, and the trimmed mean where trimmedBand).
+struct BandScaleSpace {
+  std::vector<std::vector<Eigen::Vector3f>> band;
+  std::vector<Vec3> coarse;
+  std::vector<double> noise_energy, noise_trimmed;
+};
+
+// Runs the Taubin scale space of `points` and of the probe (stream 0) together, one sweep per
+// step, and the vertex normals at BandShrinkParams::normal_pairs into `normals`. Long bands run
+// as a Chebyshev series of their pairs (taubin_chebyshev.h). False when `progress` cancels.
+inline bool buildBandScaleSpace(const std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                const Rings &rings, const SpatialTaubin &taubin,
+                                const NoiseProbe &noise_probe, const CountedVertices &cv,
+                                const BandShrinkParams &params, std::vector<Vec3> &normals,
+                                BandScaleSpace &space,
+                                const std::function<bool(double)> &progress) {
+  const std::vector<int> &edges = params.band_pairs;
+  const int bands = int(edges.size()) - 1, n = rings.vertex_count;
   const double lambda = params.lambda, mu = params.mu;
-  // Boundary vertices stop following their curve from band `boundary_pairs` on.
-  auto boundary_still = [&](int b) { return edges[b] >= params.boundary_pairs; };
-  // The scale space is kept as its bands, band[b] = snapshot b − snapshot b+1 in single precision
-  // (a band is a small difference of positions: its float rounding is ~1e-7 of the band, far below
-  // anything the gains resolve), and the coarsest snapshot in double: 12 instead of 24 bytes per
-  // vertex and band.
-  std::vector<std::vector<Eigen::Vector3f>> band(bands);
+  space.band.assign(bands, {});
+  space.noise_energy.assign(bands, 0.0);
+  space.noise_trimmed.assign(bands, 0.0);
+  space.coarse = taubin.toLocal(points);
+  std::vector<Vec3> previous;
   std::vector<Vec3f> probe, probe_previous;
-  std::vector<Vec3> coarse = taubin.toLocal(points), previous;
-  hashed_probe(0, probe);
-  std::vector<double> noise_energy(bands, 0.0), noise_trimmed(bands, 0.0), values;
-  // The per-vertex sums in parallel: each counted vertex's terms (`term`) and trimmed values (at
-  // its `slot`, its place among the counted vertices) in their own entries, summed in vertex
-  // order after: the bits of the serial loops (which were a serial tenth of the band shrinkage at
-  // 2.2M vertices, and grew `values` by doubling, fresh pages each time).
-  std::vector<double> term(n, 0.0);
-  std::vector<int> slot(n, -1);
-  for (int v = 0, next_slot = 0; v < n; ++v)
-    if (counted[v]) slot[v] = next_slot++;
-  // Mean of the values below the robust quantile (reorders x).
-  auto trimmed_mean = [&](std::vector<double> &x) {
-    if (x.empty()) return 0.0;
-    const size_t keep = std::max<size_t>(1, size_t(params.robust_quantile * double(x.size())));
-    std::nth_element(x.begin(), x.begin() + (keep - 1), x.end());
-    double sum = 0;
-    for (size_t i = 0; i < keep; ++i) sum += x[i];
-    return sum / double(keep);
-  };
-  const bool robust = params.robust_quantile < 1.0;
-  // Only the finest bands are trimmed: the others need no per-value copy (3 doubles per vertex).
-  auto trim_band = [&](int b) { return robust && edges[b + 1] <= params.robust_max_pairs; };
-  const auto normal_at =
-      std::find(edges.begin(), edges.end(), params.normal_pairs) - edges.begin();
+  noise_probe.make(0, probe);
+  std::vector<double> term(n, 0.0), values;
+  const auto normal_at = std::find(edges.begin(), edges.end(), params.normal_pairs) - edges.begin();
   auto take_normals = [&] {
     std::vector<Vec3> scratch;
-    computeVertexNormals(taubin.inGlobalOrder(coarse, scratch), faces, rings, normals);
+    computeVertexNormals(taubin.inGlobalOrder(space.coarse, scratch), faces, rings, normals);
   };
-  taubin.smooth({&coarse}, {&probe}, edges[0], lambda, mu);
+  taubin.smooth({&space.coarse}, {&probe}, edges[0], lambda, mu);
   if (normal_at == 0) take_normals();
   for (int b = 0; b < bands; ++b) {
-    // Long bands as a Chebyshev series of their pairs (taubin_chebyshev.h): the four coarsest
-    // bands' 240 steps in 57 operator applications (BandShrinkParams::chebyshev_tolerance).
     const int pairs = edges[b + 1] - edges[b];
+    // Boundary vertices stop following their curve from band `boundary_pairs` on.
+    const bool boundary_still = edges[b] >= params.boundary_pairs;
     const std::vector<double> series =
-        params.chebyshev
-            ? taubinChebyshevCoefficients(pairs, lambda, mu, params.chebyshev_tolerance)
-            : std::vector<double>();
+        params.chebyshev ? taubinChebyshevCoefficients(pairs, lambda, mu, params.chebyshev_tolerance)
+                         : std::vector<double>();
     if (params.chebyshev && chebyshevPays(series, pairs)) {
-      taubin.applyChebyshev({&coarse}, {&previous}, {&probe}, {&probe_previous}, series,
-                            boundary_still(b));
-      coarse.swap(previous);
+      taubin.applyChebyshev({&space.coarse}, {&previous}, {&probe}, {&probe_previous}, series,
+                            boundary_still);
+      space.coarse.swap(previous);
       probe.swap(probe_previous);
     } else {
-      previous = coarse;
+      previous = space.coarse;
       probe_previous = probe;
-      taubin.smooth({&coarse}, {&probe}, pairs, lambda, mu, boundary_still(b));
+      taubin.smooth({&space.coarse}, {&probe}, pairs, lambda, mu, boundary_still);
     }
-    band[b].resize(n);
+    space.band[b].resize(n);
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
-    for (int l = 0; l < n; ++l) band[b][l] = (previous[l] - coarse[l]).cast<float>();
+    for (int l = 0; l < n; ++l) space.band[b][l] = (previous[l] - space.coarse[l]).cast<float>();
     if (normal_at == b + 1 || (b + 1 == bands && normal_at > bands)) take_normals();
     // Three independent probes in one: the components; a band's noise along the normal has their
     // mean variance.
-    const bool trim = trim_band(b);
-    values.resize(trim ? 3 * size_t(count) : 0);
+    const bool trim = trimmedBand(params, b);
+    values.resize(trim ? 3 * size_t(cv.count) : 0);
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
     for (int v = 0; v < n; ++v)
-      if (counted[v]) {
+      if (cv.counted[v]) {
         const int l = taubin.local(v);
         const Vec3 difference = probe_previous[l].cast<double>() - probe[l].cast<double>();
         term[v] = difference.squaredNorm() / 3.0;
         if (trim)
           for (int k = 0; k < 3; ++k)
-            values[3 * size_t(slot[v]) + k] = difference[k] * difference[k];
+            values[3 * size_t(cv.slot[v]) + k] = difference[k] * difference[k];
       }
-    for (int v = 0; v < n; ++v)
-      if (counted[v]) noise_energy[b] += term[v];
-    if (trim) noise_trimmed[b] = trimmed_mean(values);
-    if (progress && !progress(0.9 * (b + 1) / bands)) {
-      report.cancelled = true;
-      return report;
-    }
+    space.noise_energy[b] = cv.sum(term);
+    if (trim) space.noise_trimmed[b] = trimmedMean(values, params.robust_quantile);
+    if (progress && !progress(0.9 * (b + 1) / bands)) return false;
   }
-  std::vector<Vec3>().swap(previous);
-  std::vector<double> energy(bands, 0.0), energy_trimmed(bands, 0.0);
+  return true;
+}
+
+// Each band's energy along `normals` (summed over the counted vertices) and, where trimmedBand,
+// its trimmed mean.
+inline void bandEnergiesAlongNormals(const SpatialTaubin &taubin, const BandScaleSpace &space,
+                                     const std::vector<Vec3> &normals, const CountedVertices &cv,
+                                     const BandShrinkParams &params, std::vector<double> &energy,
+                                     std::vector<double> &energy_trimmed) {
+  const int bands = int(space.band.size()), n = int(normals.size());
+  energy.assign(bands, 0.0);
+  energy_trimmed.assign(bands, 0.0);
+  std::vector<double> term(n, 0.0), values;
   for (int b = 0; b < bands; ++b) {
-    const bool trim = trim_band(b);
-    values.resize(trim ? size_t(count) : 0);
+    const bool trim = trimmedBand(params, b);
+    values.resize(trim ? size_t(cv.count) : 0);
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
     for (int v = 0; v < n; ++v)
-      if (counted[v]) {
-        const double along = band[b][taubin.local(v)].cast<double>().dot(normals[v]);
+      if (cv.counted[v]) {
+        const double along = space.band[b][taubin.local(v)].cast<double>().dot(normals[v]);
         term[v] = along * along;
-        if (trim) values[slot[v]] = along * along;
+        if (trim) values[cv.slot[v]] = along * along;
       }
-    for (int v = 0; v < n; ++v)
-      if (counted[v]) energy[b] += term[v];
-    if (trim) energy_trimmed[b] = trimmed_mean(values);
+    energy[b] = cv.sum(term);
+    if (trim) energy_trimmed[b] = trimmedMean(values, params.robust_quantile);
   }
-  std::vector<double>().swap(term);
-  std::vector<double>().swap(values);
-  const int fine = std::clamp(params.fine_band, 0, bands - 1);
-  double fine_noise = noise_energy[fine];
-  const int probes = std::clamp(int(std::ceil(params.fine_band_probe_vertices / count)), 1,
-                                std::max(1, params.max_fine_band_probes));
-  report.fine_band_probes = probes;
+}
+
+// The fine band's probe energy, averaged over enough probes that small meshes read it as steadily
+// as large ones (BandShrinkParams::fine_band_probe_vertices): `first_probe` is the scale space's
+// own (stream 0), the others run the Taubin steps up to the fine band on the probe alone.
+inline double fineBandNoise(const SpatialTaubin &taubin, const NoiseProbe &noise_probe,
+                            const CountedVertices &cv, const BandShrinkParams &params, int fine,
+                            double first_probe, int &probes) {
+  const std::vector<int> &edges = params.band_pairs;
+  const double lambda = params.lambda, mu = params.mu;
+  probes = std::clamp(int(std::ceil(params.fine_band_probe_vertices / cv.count)), 1,
+                      std::max(1, params.max_fine_band_probes));
+  double fine_noise = first_probe;
+  std::vector<Vec3f> probe, probe_previous;
   for (int extra = 1; extra < probes; ++extra) {
-    hashed_probe(extra, probe);
+    noise_probe.make(extra, probe);
     taubin.smooth({}, {&probe}, edges[0], lambda, mu);
     for (int b = 0; b < fine; ++b)
-      taubin.smooth({}, {&probe}, edges[b + 1] - edges[b], lambda, mu, boundary_still(b));
+      taubin.smooth({}, {&probe}, edges[b + 1] - edges[b], lambda, mu,
+                    edges[b] >= params.boundary_pairs);
     probe_previous = probe;
-    taubin.smooth({}, {&probe}, edges[fine + 1] - edges[fine], lambda, mu, boundary_still(fine));
-    for (int v = 0; v < n; ++v)
-      if (counted[v]) {
+    taubin.smooth({}, {&probe}, edges[fine + 1] - edges[fine], lambda, mu,
+                  edges[fine] >= params.boundary_pairs);
+    for (int v = 0; v < int(cv.counted.size()); ++v)
+      if (cv.counted[v]) {
         const int l = taubin.local(v);
         fine_noise += (probe_previous[l].cast<double>() - probe[l].cast<double>()).squaredNorm() / 3.0;
       }
   }
-  fine_noise /= probes;
+  return fine_noise / probes;
+}
+
+// The shape's spectrum from the bands' energies and noise: the fine band's shape-to-noise ratio,
+// the slope (coarse over fine band shape energy), the coarse band's shape-to-noise ratio, and
+// from them α (alphaFromSpectrum) and the detail weight.
+inline void readSpectrum(const std::vector<double> &energy, const std::vector<double> &noise_energy,
+                         int fine, double fine_noise, double mean_edge,
+                         const BandShrinkParams &params, BandShrinkReport &report) {
+  const int bands = int(energy.size());
   report.fine_snr = fine_noise > 0 ? std::max(energy[fine] - fine_noise, 0.0) / fine_noise : 0.0;
   // The fine band's noise is the probes' mean; every other band has the whole-run probe's.
   auto band_noise = [&](int b) { return b == fine ? fine_noise : noise_energy[b]; };
@@ -512,22 +557,66 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   report.detail = std::clamp((params.alpha_whole_patch_step - report.alpha) /
                                  (params.alpha_whole_patch_step - 1.0),
                              0.0, 1.0);
+}
+
+} // namespace detail
+
+// Smooths `points` in place (see the file comment). `progress(fraction)` may return false to
+// cancel; `points` are then left as they were.
+inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                         const Rings &rings, const std::vector<std::uint8_t> &fixed,
+                                         const std::vector<std::array<int, 2>> &curve,
+                                         const BandShrinkParams &params,
+                                         const std::function<bool(double)> &progress = nullptr) {
+  BandShrinkReport report;
+  const int n = rings.vertex_count;
+  const std::vector<int> &edges = params.band_pairs;
+  const int bands = int(edges.size()) - 1;
+  if (bands < 1 || n == 0) return report;
+  std::vector<Vec3> normals;
+  computeVertexNormals(points, faces, rings, normals);
+  report.noise_sigma = detail::bandNoiseSigma(points, rings, fixed, normals, params);
+  if (!(report.noise_sigma > 0)) {
+    report.gains.assign(bands, 1.0);
+    return report;
+  }
+  // (`points` stay as they are until the end: the probe's keys are computed where needed.)
+  const double mean_edge = edgeStatistics(points, rings).mean_edge_length;
+  // The scale space and the probe's, one Taubin run for both, in the renumbered order of
+  // `taubin`; every sum runs in vertex order.
+  const SpatialTaubin taubin(points, rings, fixed, curve, params.given_order);
+  const detail::CountedVertices cv(rings, fixed);
+  if (cv.count == 0) {
+    report.gains.assign(bands, 1.0);
+    return report;
+  }
+  const detail::NoiseProbe noise_probe(points, rings, taubin, report.noise_sigma, mean_edge);
+  detail::BandScaleSpace space;
+  if (!detail::buildBandScaleSpace(points, faces, rings, taubin, noise_probe, cv, params, normals,
+                                   space, progress)) {
+    report.cancelled = true;
+    return report;
+  }
+  std::vector<double> energy, energy_trimmed;
+  detail::bandEnergiesAlongNormals(taubin, space, normals, cv, params, energy, energy_trimmed);
+  const int fine = std::clamp(params.fine_band, 0, bands - 1);
+  const double fine_noise = detail::fineBandNoise(taubin, noise_probe, cv, params, fine,
+                                                  space.noise_energy[fine], report.fine_band_probes);
+  detail::readSpectrum(energy, space.noise_energy, fine, fine_noise, mean_edge, params, report);
   report.gains.resize(bands);
   // Per band: the gain keeps the band's energy beyond α times its noise (the colour's share of
   // it); spikes (robust bands) count by the energies below the robust quantile.
   for (int b = 0; b < bands; ++b) {
-    const bool trimmed = trim_band(b);
-    const double noise = trimmed ? noise_trimmed[b] : noise_energy[b];
+    const bool trimmed = detail::trimmedBand(params, b);
+    const double noise = trimmed ? space.noise_trimmed[b] : space.noise_energy[b];
     const double total = trimmed ? energy_trimmed[b] : energy[b];
     report.gains[b] = detail::sharedGain(
         params, b, detail::wienerGain(report.alpha * detail::bandColour(params, b) * noise, total));
   }
-  std::vector<Vec3f>().swap(probe);
-  std::vector<Vec3f>().swap(probe_previous);
   taubin.releaseBuffers(); // no more steps: the local gains' arrays can take their memory
   const std::vector<std::vector<float>> local =
-      detail::localBandGains(taubin, rings, band, normals, counted, noise_energy, count, report.alpha,
-                             params, report.gains);
+      detail::localBandGains(taubin, rings, space.band, normals, cv.counted, space.noise_energy,
+                             cv.count, report.alpha, params, report.gains);
   for (int b = 0; b < bands; ++b)
     if (!local[b].empty()) {
       if (!report.local_to_pairs) report.local_from_pairs = edges[b];
@@ -537,9 +626,9 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
   for (int v = 0; v < n; ++v) {
     const int l = taubin.local(v);
-    Vec3 p = coarse[l];
+    Vec3 p = space.coarse[l];
     for (int b = 0; b < bands; ++b)
-      p += (local[b].empty() ? report.gains[b] : double(local[b][l])) * band[b][l].cast<double>();
+      p += (local[b].empty() ? report.gains[b] : double(local[b][l])) * space.band[b][l].cast<double>();
     if (p.allFinite()) points[v] = p;
   }
   return report;

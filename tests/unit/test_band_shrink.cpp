@@ -626,3 +626,68 @@ TEST(OrganicSmooth, MoreStrengthKeepsActingPastTheCoarsestBand) {
   // Continuous at strength 1: the new band comes in with (almost) none of its shrinkage.
   EXPECT_LT(largestDifference(run(1.0, 4), run(1.0 + 1e-6, 4)) / edge, 1e-3);
 }
+
+// The robust bands' trimmed mean: the mean of the values below the quantile, at least one kept.
+TEST(BandShrinkStages, TrimmedMeanKeepsTheValuesBelowTheQuantile) {
+  std::vector<double> x = {5, 1, 4, 2, 3};
+  EXPECT_DOUBLE_EQ(detail::trimmedMean(x, 0.6), 2.0); // 1, 2, 3
+  x = {5, 1, 4, 2, 3};
+  EXPECT_DOUBLE_EQ(detail::trimmedMean(x, 1.0), 3.0);
+  x = {5, 1, 4, 2, 3};
+  EXPECT_DOUBLE_EQ(detail::trimmedMean(x, 0.01), 1.0);
+  x.clear();
+  EXPECT_DOUBLE_EQ(detail::trimmedMean(x, 0.5), 0.0);
+}
+
+// Counted vertices: movable and with a ring; slots number them in vertex order, and the sum runs
+// over them only.
+TEST(BandShrinkStages, CountedVerticesSkipFixedAndIsolatedOnes) {
+  MeshArrays grid = test_meshes::heightField(4, 0, 1, 0, 1, [](double, double) { return 0.0; });
+  grid.points.push_back(Vec3(5, 5, 5)); // isolated: no ring
+  const Rings rings = computeRings(int(grid.points.size()), grid.faces);
+  std::vector<std::uint8_t> fixed(grid.points.size(), 0);
+  fixed[5] = 1;
+  const detail::CountedVertices cv(rings, fixed);
+  EXPECT_EQ(cv.count, 15); // 17 vertices, one fixed, one isolated
+  EXPECT_EQ(cv.slot[4], 4);
+  EXPECT_EQ(cv.slot[5], -1);
+  EXPECT_EQ(cv.slot[6], 5);
+  EXPECT_EQ(cv.slot[16], -1);
+  std::vector<double> term(grid.points.size(), 1.0);
+  term[5] = term[16] = 100.0;
+  EXPECT_DOUBLE_EQ(cv.sum(term), 15.0);
+}
+
+// The noise probe follows the mesh's own frame: moving the mesh, or scaling it with its mean
+// edge, gives the same probe values.
+TEST(BandShrinkStages, NoiseProbeIsTheSameForAMovedOrScaledMesh) {
+  const MeshArrays mesh = test_meshes::icosphere(1.0, 3);
+  MeshArrays moved = mesh, scaled = mesh;
+  for (auto &p : moved.points) p += Vec3(123.25, -7.5, 0.125);
+  for (auto &p : scaled.points) p *= 8.0;
+  auto probe = [](const MeshArrays &m) {
+    const Rings rings = computeRings(int(m.points.size()), m.faces);
+    const std::vector<std::uint8_t> fixed(m.points.size(), 0);
+    const SpatialTaubin taubin(m.points, rings, fixed, {});
+    const detail::NoiseProbe noise_probe(m.points, rings, taubin, 1.0, meanEdge(m));
+    std::vector<Vec3f> values;
+    noise_probe.make(0, values);
+    return values;
+  };
+  const std::vector<Vec3f> a = probe(mesh);
+  int same_moved = 0, same_scaled = 0;
+  const std::vector<Vec3f> b = probe(moved), c = probe(scaled);
+  for (size_t i = 0; i < a.size(); ++i) same_moved += a[i] == b[i], same_scaled += a[i] == c[i];
+  // (a cell edge may fall on a vertex: float rounding of the move may then change its cell)
+  EXPECT_GE(same_moved, int(0.99 * a.size()));
+  EXPECT_GE(same_scaled, int(0.99 * a.size()));
+  // Another stream is another probe.
+  const Rings rings = computeRings(int(mesh.points.size()), mesh.faces);
+  const SpatialTaubin taubin(mesh.points, rings, std::vector<std::uint8_t>(mesh.points.size(), 0), {});
+  const detail::NoiseProbe noise_probe(mesh.points, rings, taubin, 1.0, meanEdge(mesh));
+  std::vector<Vec3f> other;
+  noise_probe.make(1, other);
+  int same_stream = 0;
+  for (size_t i = 0; i < a.size(); ++i) same_stream += a[i] == other[i];
+  EXPECT_EQ(same_stream, 0);
+}
