@@ -103,6 +103,60 @@ inline void addStrengthBands(BandShrinkParams &bands, double strength, int max_o
   }
 }
 
+// Untangles folds before the band shrinkage (it smooths along the normals, which point the wrong
+// way on a fold), under heavy-tailed noise only (OrganicSmoothParams::fold_min_tail,
+// fold_min_level). The noise level is read before: untangling removes part of the noise unevenly
+// (measured: mushroom r0.3, the shrinkage read 0.129 mean edge lengths after it against 0.243 on
+// the input, and θ three times the result without it). Returns the vertex moves made.
+inline long untangleFoldsForBands(std::vector<Vec3> &points, const std::vector<Face> &faces,
+                                  const DriverSetup &setup, const OrganicSmoothParams &params,
+                                  BandShrinkParams &bands) {
+  FoldRepairParams folds = params.folds;
+  if (!(setup.noise.tail >= params.fold_min_tail && setup.noise.level >= params.fold_min_level))
+    folds.max_rounds = 0;
+  if (folds.max_rounds > 0) {
+    std::vector<Vec3> normals;
+    computeVertexNormals(points, faces, setup.rings, normals);
+    bands.given_noise_sigma = estimateNormalNoiseSigma(points, setup.rings, setup.fixed, normals);
+  }
+  return repairFolds(points, faces, setup.rings, setup.fixed, folds);
+}
+
+// The band shrinkage's parameters for the measured amount and the user's strength: the noise
+// scaled by the amount, at least a tenth of an edge length per strength unit above 1 (asked for
+// more than measured), one band more per doubling of strength past the coarsest
+// (addStrengthBands), and the noise's colour when asked.
+inline void organicBandParams(const OrganicSmoothParams &params, const NoiseEstimate &noise,
+                              double amount, BandShrinkParams &bands) {
+  bands.noise_scale *= amount;
+  bands.min_noise_edges = std::max(0.0, params.strength - 1) * params.noise_edges_per_strength;
+  addStrengthBands(bands, params.strength, params.max_strength_octaves);
+  if (params.coloured_noise) bands.noise_colour = noiseColour(noise, bands.band_pairs, params.colour);
+  bands.given_order = true; // (inSpatialOrder)
+}
+
+// One patch update: each movable vertex `step` of the way onto its face patches, kept off the
+// inward direction on the boundary. Returns the number of non-finite moves (those vertices stay).
+inline long organicPatchSweep(const std::vector<Vec3> &current, const DriverSetup &setup,
+                              const OrganicSmoothParams &params, double step,
+                              const FacePatches &patches, const std::vector<Vec3> &vertex_normals,
+                              std::vector<Vec3> &next) {
+  const Rings &rings = setup.rings;
+  const int n = int(current.size());
+  long rejected = 0;
+#pragma omp parallel for schedule(static) reduction(+ : rejected) if (parallelHeavy(n))
+  for (int v = 0; v < n; ++v) {
+    next[v] = current[v];
+    if (setup.fixed[v] || rings.ring1Size(v) == 0) continue;
+    Vec3 moved = current[v] + step * (moveOntoFacePatches(v, current[v], rings, patches) - current[v]);
+    if (rings.boundary[v])
+      moved = constrainBoundaryMove(v, moved, current, vertex_normals, setup.roles, params.boundary);
+    if (moved.allFinite()) next[v] = moved;
+    else ++rejected;
+  }
+  return rejected;
+}
+
 // The driver on `mesh` as given (organicSmoothMesh runs it in spatial order).
 inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
                                                 const OrganicSmoothParams &params,
@@ -115,7 +169,6 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     return std::chrono::duration<double>(clock::now() - a).count();
   };
   OrganicSmoothReport report;
-  const int n = int(mesh.points.size());
   auto t = clock::now();
   // `given_setup`: as in featureSmoothMesh, the topology when the caller has it already.
   std::optional<detail::DriverSetup> own_setup;
@@ -147,28 +200,11 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   if (noisy) {
     t = clock::now();
     BandShrinkParams bands = params.bands;
-    // The noise level is read before the folds are untangled: untangling removes part of the
-    // noise unevenly (measured: mushroom r0.3, the shrinkage read 0.129 mean edge lengths after
-    // it against 0.243 on the input, and θ three times the result without it).
-    FoldRepairParams folds = params.folds;
-    if (!(setup.noise.tail >= params.fold_min_tail && setup.noise.level >= params.fold_min_level))
-      folds.max_rounds = 0;
-    if (folds.max_rounds > 0) {
-      std::vector<Vec3> normals;
-      computeVertexNormals(current, mesh.faces, rings, normals);
-      bands.given_noise_sigma = estimateNormalNoiseSigma(current, rings, fixed, normals);
-    }
-    // Before the shrinkage: it smooths along the normals, which point the wrong way on a fold.
-    report.fold_moves = repairFolds(current, mesh.faces, rings, fixed, folds);
-    bands.noise_scale *= report.amount;
-    // Asked for more than measured: at least a tenth of an edge length per strength unit above 1.
-    bands.min_noise_edges = std::max(0.0, params.strength - 1) * params.noise_edges_per_strength;
-    detail::addStrengthBands(bands, params.strength, params.max_strength_octaves);
-    if (params.coloured_noise) bands.noise_colour = noiseColour(setup.noise, bands.band_pairs, params.colour);
+    report.fold_moves = detail::untangleFoldsForBands(current, mesh.faces, setup, params, bands);
+    detail::organicBandParams(params, setup.noise, report.amount, bands);
     // The band shrinkage, this mode's peak memory, reads no face rings, nor does the patch update
     // (its fit merges each face's ring when it needs it): ~136 bytes per vertex freed.
     setup.face_rings = FaceRings();
-    bands.given_order = true; // (inSpatialOrder)
     report.bands = bandShrinkSmooth(current, mesh.faces, rings, fixed, roles.boundary_neighbours,
                                     bands, [&](double fraction) {
                                       return !progress ||
@@ -193,7 +229,6 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
       setup.face_rings = computeFaceRings(mesh.faces, rings, /*with_edge_neighbours=*/false);
     for (int update = 0; update < patch_updates; ++update) {
       computeFaceNormals(current, mesh.faces, face_normals);
-      long rejected = 0;
       const std::vector<double> face_alpha =
           params.alpha_override ? std::vector<double>()
                                 : detail::saliencyFaceAlpha(current, mesh.faces, setup,
@@ -202,18 +237,8 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
                                             params.patches, face_alpha, patches);
       if (report.boundary_vertices)
         computeBoundaryVertexNormals(current, mesh.faces, rings, vertex_normals);
-#pragma omp parallel for schedule(static) reduction(+ : rejected) if (parallelHeavy(n))
-      for (int v = 0; v < n; ++v) {
-        next[v] = current[v];
-        if (fixed[v] || rings.ring1Size(v) == 0) continue;
-        Vec3 moved = current[v] + report.patch_step *
-                                      (moveOntoFacePatches(v, current[v], rings, patches) - current[v]);
-        if (rings.boundary[v])
-          moved = detail::constrainBoundaryMove(v, moved, current, vertex_normals, roles,
-                                                params.boundary);
-        if (moved.allFinite()) next[v] = moved;
-        else ++rejected;
-      }
+      const long rejected = detail::organicPatchSweep(current, setup, params, report.patch_step,
+                                                      patches, vertex_normals, next);
       current.swap(next);
       report.plane_fallbacks += fallbacks;
       report.rejected_moves += rejected;

@@ -691,3 +691,46 @@ TEST(BandShrinkStages, NoiseProbeIsTheSameForAMovedOrScaledMesh) {
   for (size_t i = 0; i < a.size(); ++i) same_stream += a[i] == other[i];
   EXPECT_EQ(same_stream, 0);
 }
+
+// The organic mode's band parameters: the noise scaled by the measured amount; past strength 1 a
+// floor of a tenth of an edge per strength unit and one band per doubling; the given order.
+TEST(OrganicSmoothStages, BandParamsFollowTheAmountAndTheStrength) {
+  OrganicSmoothParams params;
+  NoiseEstimate noise;
+  BandShrinkParams b = params.bands;
+  detail::organicBandParams(params, noise, 0.5, b);
+  EXPECT_DOUBLE_EQ(b.noise_scale, 0.5 * params.bands.noise_scale);
+  EXPECT_DOUBLE_EQ(b.min_noise_edges, 0.0);
+  EXPECT_EQ(b.band_pairs, params.bands.band_pairs);
+  EXPECT_TRUE(b.given_order);
+  params.strength = 3.0;
+  b = params.bands;
+  detail::organicBandParams(params, noise, 1.0, b);
+  EXPECT_DOUBLE_EQ(b.min_noise_edges, 0.2);
+  EXPECT_EQ(b.band_pairs.size(), params.bands.band_pairs.size() + 2); // 256 and 512 pairs
+}
+
+// Folds are untangled only under heavy-tailed noise at a level that matters; then the band
+// shrinkage gets the noise level read before untangling.
+TEST(OrganicSmoothStages, FoldsAreUntangledOnlyUnderHeavyTails) {
+  const MeshArrays clean = test_meshes::icosphere(1.0, 4);
+  MeshArrays noisy = clean;
+  test_meshes::addNoise(noisy, 0.3 * meanEdge(clean), 9); // random directions: folded stars
+  detail::DriverSetup setup = detail::driverSetup(noisy, false);
+  const OrganicSmoothParams params;
+  setup.noise.tail = 1.0; // Gaussian
+  setup.noise.level = 0.5;
+  BandShrinkParams bands = params.bands;
+  std::vector<Vec3> points = noisy.points;
+  EXPECT_EQ(detail::untangleFoldsForBands(points, noisy.faces, setup, params, bands), 0);
+  EXPECT_EQ(points, noisy.points);
+  EXPECT_EQ(bands.given_noise_sigma, params.bands.given_noise_sigma);
+  setup.noise.tail = 2.0; // heavy tails
+  const long moves = detail::untangleFoldsForBands(points, noisy.faces, setup, params, bands);
+  EXPECT_GT(moves, 0);
+  EXPECT_NE(points, noisy.points);
+  std::vector<Vec3> normals;
+  computeVertexNormals(noisy.points, noisy.faces, setup.rings, normals);
+  EXPECT_DOUBLE_EQ(bands.given_noise_sigma,
+                   estimateNormalNoiseSigma(noisy.points, setup.rings, setup.fixed, normals));
+}
