@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
-"""The default (tools/smooth_mesh with no parameters: the automatic mode) of two builds side by
+"""tools/smooth_mesh of two builds (with no parameters: the default, the automatic mode) side by
 side, on the sets the scanner-noise work is judged on; for checking a change of defaults against the build it
 replaces (bench/SCANNER_METHOD.md).
 
     python3 bench/compare_builds.py --new build --old ../main/build [--sets public,clean,...]
+                                    [name=value ...]   (smooth_mesh parameters for both)
 
 Sets (cases as bench/method_sweep.py and bench/scanner_holdout.py make them):
 - public: the benchmark's five noisy cases; clean: the benchmark's clean meshes and the paper's
@@ -13,9 +14,11 @@ Sets (cases as bench/method_sweep.py and bench/scanner_holdout.py make them):
 - light: add_noise 0.05 / 0.1 mean edge lengths in random directions on Bunny, cow, Fandisk, camel;
 - real: the three real scans (mean displacement in mean edge lengths, bench/noref.py, and median
   dihedral spread after).
-Prints one row per case and writes bench/out/compare/TAG.json. Two runs at a time, one thread each.
+Prints one row per case and how many outputs are byte-identical (what a change that only moves
+code must keep: all), and writes bench/out/compare/TAG.json. Two runs at a time, one thread each.
 """
 import argparse
+import filecmp
 import json
 import os
 import pathlib
@@ -42,12 +45,16 @@ def all_cases(sets, build):
     return out
 
 
-def run(build, case, tag):
+def output_path(case, tag):
+    return OUT / "runs" / tag / (case["name"].replace(" ", "_").replace("×", "x").replace("(", "")
+                                 .replace(")", "") + ".ply")
+
+
+def run(build, case, tag, extra=()):
     d = OUT / "runs" / tag
     d.mkdir(parents=True, exist_ok=True)
-    out = d / (case["name"].replace(" ", "_").replace("×", "x").replace("(", "").replace(")", "")
-               + ".ply")
-    subprocess.run([str(build / "tools" / "smooth_mesh"), str(case["noisy"]), str(out)],
+    out = output_path(case, tag)
+    subprocess.run([str(build / "tools" / "smooth_mesh"), str(case["noisy"]), str(out)] + list(extra),
                    check=True, capture_output=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
     if case["clean"] is not None:
         return json.loads(subprocess.run([str(build / "tools" / "mesh_compare"), str(out),
@@ -67,13 +74,15 @@ def main():
     ap.add_argument("--sets", default="public,clean,scanner,holdout,light,real")
     ap.add_argument("--tag", default="compare")
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("args", nargs="*", help="smooth_mesh parameters for both builds (name=value)")
     a = ap.parse_args()
     new, old = pathlib.Path(a.new).resolve(), pathlib.Path(a.old).resolve()
     todo = all_cases(a.sets.split(","), new)
     results = {}
 
     def both(case):
-        return case, run(new, case, a.tag + "_new"), run(old, case, a.tag + "_old")
+        return (case, run(new, case, a.tag + "_new", a.args),
+                run(old, case, a.tag + "_old", a.args))
 
     with ThreadPoolExecutor(a.jobs) as ex:
         for case, n, o in ex.map(both, todo):
@@ -86,6 +95,10 @@ def main():
                 print(f"{case['group']:8s} {case['name']:28s} θ new {n['theta_deg']:6.2f} old "
                       f"{o['theta_deg']:6.2f}   Ev new {n['ev_1e3']:5.2f} old {o['ev_1e3']:5.2f}",
                       flush=True)
+    # A change that only moves code must give the same bytes.
+    same = sum(filecmp.cmp(output_path(c, a.tag + "_new"), output_path(c, a.tag + "_old"),
+                           shallow=False) for c in todo)
+    print(f"byte-identical outputs: {same} of {len(todo)}")
     OUT.mkdir(parents=True, exist_ok=True)
     (OUT / f"{a.tag}.json").write_text(json.dumps(results, indent=1, default=str))
 
