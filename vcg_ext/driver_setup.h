@@ -290,6 +290,29 @@ struct DriverSetup {
   double input_spread_deg = NAN; // the input's median dihedral spread, once read (inputSpreadDeg)
 };
 
+// One Jacobi sweep of a face-patch driver's vertex update: each movable vertex (not fixed, with a
+// ring) to `move(v)`, kept off the inward direction on the boundary (constrainBoundaryMove, which
+// reads `vertex_normals` there); a non-finite move leaves the vertex where it is. Returns how many
+// did. `move` reads `current` only, so the sweep is the same for any thread count.
+template <class Move>
+long sweepVertices(const std::vector<Vec3> &current, const DriverSetup &setup, BoundaryMode boundary,
+                   const std::vector<Vec3> &vertex_normals, Move move, std::vector<Vec3> &next) {
+  const Rings &rings = setup.rings;
+  const int n = int(current.size());
+  long rejected = 0;
+#pragma omp parallel for schedule(static) reduction(+ : rejected) if (parallelHeavy(n))
+  for (int v = 0; v < n; ++v) {
+    next[v] = current[v];
+    if (setup.fixed[v] || rings.ring1Size(v) == 0) continue;
+    Vec3 moved = move(v);
+    if (rings.boundary[v])
+      moved = constrainBoundaryMove(v, moved, current, vertex_normals, setup.roles, boundary);
+    if (moved.allFinite()) next[v] = moved;
+    else ++rejected;
+  }
+  return rejected;
+}
+
 // What a driver's report says of its set-up: scale, closedness, the vertices it may not move
 // and the input's volume (FeatureSmoothReport, OrganicSmoothReport).
 template <class Report> void reportSetup(const DriverSetup &setup, Report &report) {

@@ -276,12 +276,7 @@ inline long featureVertexSweep(const std::vector<Vec3> &current, const DriverSet
                                const FeatureSmoothParams &params, double edge,
                                const FeatureMoveInputs &in, std::vector<Vec3> &next) {
   const Rings &rings = setup.rings;
-  const int n = int(current.size());
-  long rejected = 0;
-#pragma omp parallel for schedule(static) reduction(+ : rejected) if (parallelHeavy(n))
-  for (int v = 0; v < n; ++v) {
-    next[v] = current[v];
-    if (setup.fixed[v] || rings.ring1Size(v) == 0) continue;
+  auto move = [&](int v) {
     Vec3 moved = in.patches ? moveOntoFacePatches(v, current[v], rings, *in.patches)
                             : moveOntoFacePlanes(v, current[v], rings, in.centroid, in.filtered,
                                                  edge);
@@ -289,17 +284,13 @@ inline long featureVertexSweep(const std::vector<Vec3> &current, const DriverSet
       Vec3 centre = Vec3::Zero();
       for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) centre += current[*w];
       const Vec3 step = centre / rings.ring1Size(v) - current[v];
-      // On the boundary, the rule below keeps what may stay of the step.
+      // On the boundary, sweepVertices keeps what may stay of the step.
       moved += params.tangential *
                (rings.boundary[v] ? step : Vec3(unpackSymmetric(in.tangent_projector[v]) * step));
     }
-    if (rings.boundary[v])
-      moved = constrainBoundaryMove(v, moved, current, in.vertex_normals, setup.roles,
-                                    params.boundary);
-    if (moved.allFinite()) next[v] = moved;
-    else ++rejected;
-  }
-  return rejected;
+    return moved;
+  };
+  return sweepVertices(current, setup, params.boundary, in.vertex_normals, move, next);
 }
 
 // The driver on `mesh` as given (featureSmoothMesh runs it in spatial order).

@@ -141,20 +141,11 @@ inline long organicPatchSweep(const std::vector<Vec3> &current, const DriverSetu
                               const OrganicSmoothParams &params, double step,
                               const FacePatches &patches, const std::vector<Vec3> &vertex_normals,
                               std::vector<Vec3> &next) {
-  const Rings &rings = setup.rings;
-  const int n = int(current.size());
-  long rejected = 0;
-#pragma omp parallel for schedule(static) reduction(+ : rejected) if (parallelHeavy(n))
-  for (int v = 0; v < n; ++v) {
-    next[v] = current[v];
-    if (setup.fixed[v] || rings.ring1Size(v) == 0) continue;
-    Vec3 moved = current[v] + step * (moveOntoFacePatches(v, current[v], rings, patches) - current[v]);
-    if (rings.boundary[v])
-      moved = constrainBoundaryMove(v, moved, current, vertex_normals, setup.roles, params.boundary);
-    if (moved.allFinite()) next[v] = moved;
-    else ++rejected;
-  }
-  return rejected;
+  auto move = [&](int v) {
+    return Vec3(current[v] +
+                step * (moveOntoFacePatches(v, current[v], setup.rings, patches) - current[v]));
+  };
+  return sweepVertices(current, setup, params.boundary, vertex_normals, move, next);
 }
 
 // The driver on `mesh` as given (organicSmoothMesh runs it in spatial order).
