@@ -39,6 +39,8 @@ enum class FoldHandling {
   Paper,  // retry with the vertex's own normal, then with the 1-ring; else keep the vertex
 };
 
+// Per vertex, for inspection: the result's saliency and curvatures, the α its last patch fit used
+// (the paper's rule or the user's; 1 where none ran) and its displacement from the input.
 struct VertexQuantities {
   std::vector<double> saliency, k1, k2, mean, gauss, alpha, displacement;
 };
@@ -250,11 +252,13 @@ inline bool restoreVolume(std::vector<Vec3> &points, const std::vector<Face> &fa
 }
 
 // Describes a result with the same per-vertex quantities as the other modes (curvatures and
-// saliency of the result, displacement from the input; α is 1: these modes do not use it).
-// Returns how many vertices moved.
+// saliency of the result, displacement from the input) and `vertex_alpha`, the α the patch fits
+// used (vertexAlphaOfPatches), or 1 where it is empty (no patch update ran). Returns how many
+// vertices moved.
 inline long describeResult(const std::vector<Vec3> &input, const std::vector<Vec3> &result,
                            const std::vector<Face> &faces, const Rings &rings,
-                           double saliency_scale, VertexQuantities &quantities) {
+                           double saliency_scale, VertexQuantities &quantities,
+                           std::vector<double> &&vertex_alpha = {}) {
   const int n = int(result.size());
   SurfaceAnalysis analysis;
   analyseSurface(result, faces, rings, saliency_scale, analysis, /*with_directions=*/false);
@@ -263,7 +267,8 @@ inline long describeResult(const std::vector<Vec3> &input, const std::vector<Vec
   quantities.k2 = std::move(analysis.curvature.k2);
   quantities.mean = std::move(analysis.curvature.mean);
   quantities.gauss = std::move(analysis.curvature.gauss);
-  quantities.alpha.assign(n, 1.0);
+  if (vertex_alpha.size() == size_t(n)) quantities.alpha = std::move(vertex_alpha);
+  else quantities.alpha.assign(n, 1.0);
   quantities.displacement.assign(n, 0.0);
   long moved = 0;
   for (int i = 0; i < n; ++i) {
@@ -324,15 +329,17 @@ template <class Report> void reportSetup(const DriverSetup &setup, Report &repor
   report.volume_before = setup.volume_before;
 }
 
-// A driver's last step: the result's quantities for inspection (describeResult, timed), its
-// volume, and the result handed to the caller (`result` is left empty).
+// A driver's last step: the result's quantities for inspection (describeResult, timed, with the
+// α its patch fits used), its volume, and the result handed to the caller (`result` is left
+// empty).
 template <class Report>
 void finishDriver(const MeshArrays &mesh, const Rings &rings, double saliency_scale,
                   std::vector<Vec3> &result, std::vector<Vec3> &out_points,
-                  VertexQuantities &quantities, Report &report) {
+                  VertexQuantities &quantities, Report &report,
+                  std::vector<double> &&vertex_alpha = {}) {
   const auto start = std::chrono::steady_clock::now();
-  report.vertices_moved =
-      describeResult(mesh.points, result, mesh.faces, rings, saliency_scale, quantities);
+  report.vertices_moved = describeResult(mesh.points, result, mesh.faces, rings, saliency_scale,
+                                         quantities, std::move(vertex_alpha));
   report.seconds_quantities =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   report.volume_after = signedVolume(result, mesh.faces);
@@ -433,6 +440,31 @@ inline std::vector<double> saliencyFaceAlpha(const std::vector<Vec3> &points,
   SurfaceAnalysis analysis;
   analyseSurface(points, faces, setup.rings, saliency_scale, analysis, /*with_directions=*/false);
   return faceAlphaFromSaliency(faces, setup.face_rings, analysis.saliency);
+}
+
+// Per vertex, the α the patch fits of its faces used, for inspection (the "Alpha" attribute): the
+// mean of `face_alpha` over the vertex's faces (the paper's saliency rule, saliencyFaceAlpha), or
+// `alpha` where `face_alpha` is empty (the user's override, the same for every face); 1 for a
+// vertex without faces. A vertex's last update moved it onto these faces' patches.
+inline std::vector<double> vertexAlphaOfPatches(const Rings &rings,
+                                                const std::vector<double> &face_alpha,
+                                                double alpha) {
+  const int n = rings.vertex_count;
+  std::vector<double> out(n, 1.0);
+  for (int v = 0; v < n; ++v) {
+    const int *begin = rings.facesBegin(v), *end = rings.facesEnd(v);
+    if (begin == end) continue;
+    if (face_alpha.empty()) {
+      out[v] = alpha;
+      continue;
+    }
+    double sum = 0;
+    int count = 0;
+    for (const int *f = begin; f != end; ++f)
+      if (f == begin || *f != f[-1]) sum += face_alpha[*f], ++count; // (a face listed twice: once)
+    out[v] = sum / count;
+  }
+  return out;
 }
 
 // Gives a closed mesh its input volume back by offsets along the vertex normals of the movable

@@ -351,6 +351,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   FacePatches patches;
   std::vector<SymmetricMatrix3> tangent_projector;
   std::vector<std::uint8_t> relax(n, 1), relax_scratch(n, 1), folded;
+  std::vector<double> vertex_alpha; // the α of the patch update's fits, for inspection
   for (int pass = 0; pass < outer && edge > 0; ++pass) {
     t = clock::now();
     std::vector<SymmetricMatrix3>().swap(tangent_projector);
@@ -406,6 +407,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
                                                       params.saliency_scale * setup.stats.bbox_diagonal);
         report.plane_fallbacks += fitFacePatches(current, mesh.faces, setup.face_rings, filtered,
                                                  edge, params.patches, face_alpha, patches);
+        vertex_alpha = vertexAlphaOfPatches(rings, face_alpha, params.patches.alpha);
       } else {
         computeFaceCentroids(current, mesh.faces, centroid);
       }
@@ -440,7 +442,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   std::vector<SymmetricMatrix3>().swap(tangent_projector);
   setup.face_rings = FaceRings();
   finishDriver(mesh, rings, params.saliency_scale * setup.stats.bbox_diagonal, current, out_points,
-               quantities, report);
+               quantities, report, std::move(vertex_alpha));
   return report;
 }
 

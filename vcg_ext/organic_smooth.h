@@ -186,6 +186,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
       std::min(1.0, report.roughness / params.full_noise_roughness) * report.tail_factor,
       params.strength);
   const bool noisy = report.amount > 0 && edge > 0;
+  std::vector<double> vertex_alpha; // the α of the patch update's fits, for inspection
   if (progress && !progress(6, noisy ? "Band shrinkage" : "The mesh measures as clean"))
     return report.cancelled = true, report;
   if (noisy) {
@@ -226,6 +227,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
                                                             params.saliency_scale * setup.stats.bbox_diagonal);
       const long fallbacks = fitFacePatches(current, mesh.faces, rings, face_normals, edge,
                                             params.patches, face_alpha, patches);
+      vertex_alpha = detail::vertexAlphaOfPatches(rings, face_alpha, params.patches.alpha);
       if (report.boundary_vertices)
         computeBoundaryVertexNormals(current, mesh.faces, rings, vertex_normals);
       const long rejected = detail::organicPatchSweep(current, setup, params, report.patch_step,
@@ -246,7 +248,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   // Only the result and the rings are read from here on (feature_smooth.h: the same).
   setup.face_rings = FaceRings();
   detail::finishDriver(mesh, rings, params.saliency_scale * setup.stats.bbox_diagonal, current,
-                       out_points, quantities, report);
+                       out_points, quantities, report, std::move(vertex_alpha));
   return report;
 }
 

@@ -122,6 +122,22 @@ def test_smoothing_fandisk_with_defaults(pymeshlab, tmp_path, shared):
     np.testing.assert_array_equal(mesh.vertex_custom_scalar_attribute_array("Alpha"), 1.0)
 
 
+def test_alpha_attribute_shows_the_alpha_the_patches_used(pymeshlab, shared):
+    """The Alpha attribute holds the α the default method's patch fits used: the user's α with
+    the override on, the paper's saliency rule (below 1 where saliency varies) with it off."""
+    noisy = shared / "data" / "benchmark" / "Fandisk0.3" / "noisy.ply"
+    ms = load(pymeshlab, noisy)
+    ms.apply_coord_saliency_bezier_smoothing(alpha=0.5)
+    np.testing.assert_array_equal(ms.current_mesh().vertex_custom_scalar_attribute_array("Alpha"),
+                                  0.5)
+    ms = load(pymeshlab, noisy)
+    ms.apply_coord_saliency_bezier_smoothing(alpha_override=False)
+    alpha = ms.current_mesh().vertex_custom_scalar_attribute_array("Alpha")
+    print(f"Fandisk0.3, the paper's alpha rule: min {alpha.min():.4f}, mean {alpha.mean():.4f}")
+    assert alpha.min() > 0 and alpha.max() <= 1
+    assert alpha.mean() < 0.9
+
+
 def test_parameter_names_and_defaults_match_the_2020_script(pymeshlab, shared):
     """Every parameter of examples/saliency_bezier_smooth.mlx (the 2020.09 script, all defaults)
     is accepted by name as a Python kwarg, with enums as their index, and gives the defaults'
