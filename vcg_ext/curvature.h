@@ -129,11 +129,127 @@ inline Eigen::Vector3d solveTensorFit(const Eigen::Matrix3d &M, const Eigen::Vec
 
 } // namespace detail
 
+namespace detail {
+
+// What one vertex's fan of faces adds up to: Meyer's mixed area, the angle sum, the cotangent
+// Laplacian Σ (cot α + cot β)(q_j − q_i) (pointing inward on a sphere), and the normal equations of
+// the least-squares tensor fit κ(c, s) = a c² + 2 b c s + d s² to the edges' normal curvatures
+// (upper triangle; each edge weighted by the area of the face it is seen from, twice for interior
+// edges).
+struct FanSums {
+  double mixed_area = 0, angle_sum = 0;
+  Vec3 laplacian = Vec3::Zero();
+  Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+};
+
+// The tensor fit's row for an edge from the vertex (its normal curvature along the edge), weighted
+// by `face_area`. The edge's direction in the tangent plane is (c, s) = (x, y)/|(x, y)|; the row
+// (c², 2cs, s²) needs no square root. An edge along the normal adds nothing.
+inline void addEdgeCurvature(const Vec3 &edge, double length2, double face_area, const Vec3 &normal,
+                             const Vec3 &t1, const Vec3 &t2, FanSums &sums) {
+  const double along_normal = edge.dot(normal);
+  const double x = edge.dot(t1), y = edge.dot(t2), tangent2 = x * x + y * y;
+  if (!(tangent2 > 1e-24 * length2)) return;
+  // The neighbour lies below the tangent plane on a sphere: curvature positive.
+  const double kappa = -2 * along_normal / length2;
+  const Eigen::Vector3d row = Eigen::Vector3d(x * x, 2 * x * y, y * y) / tangent2;
+  const Eigen::Vector3d weighted = face_area * row;
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) sums.normal_matrix(i, j) += weighted[i] * row[j];
+  sums.rhs += kappa * weighted;
+}
+
+// Adds the corner of face `t` at vertex v (position p) to v's sums; false for a degenerate face
+// (the vertex then gets zeros).
+inline bool addFanCorner(int v, const Face &t, const std::vector<Vec3> &points, const Vec3 &normal,
+                         const Vec3 &t1, const Vec3 &t2, bool with_directions, FanSums &sums) {
+  const Vec3 &p = points[v];
+  const int corner = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+  const Vec3 &q = points[t[(corner + 1) % 3]], &r = points[t[(corner + 2) % 3]];
+  const Vec3 pq = q - p, pr = r - p, qr = r - q;
+  const double pq2 = pq.squaredNorm(), pr2 = pr.squaredNorm();
+  const double twice_area = pq.cross(pr).norm();
+  // As detail::isDegenerateTriangle, on the values needed below anyway.
+  const double longest2 = std::max({pq2, pr2, qr.squaredNorm()});
+  if (!(longest2 > 0) || !(twice_area > 1e-12 * longest2) || !std::isfinite(twice_area))
+    return false;
+  const double dot_p = pq.dot(pr), dot_q = -pq.dot(qr), dot_r = pr.dot(qr);
+  const double cot_q = dot_q / twice_area, cot_r = dot_r / twice_area;
+  sums.laplacian += cot_r * pq + cot_q * pr;
+  sums.angle_sum += std::atan2(twice_area, dot_p);
+  // Meyer's mixed area: Voronoi region unless the triangle is obtuse.
+  if (dot_p >= 0 && dot_q >= 0 && dot_r >= 0)
+    sums.mixed_area += (pr2 * cot_q + pq2 * cot_r) / 8;
+  else
+    sums.mixed_area += dot_p < 0 ? twice_area / 4 : twice_area / 8;
+  if (with_directions) {
+    addEdgeCurvature(pq, pq2, 0.5 * twice_area, normal, t1, t2, sums);
+    addEdgeCurvature(pr, pr2, 0.5 * twice_area, normal, t1, t2, sums);
+  }
+  return true;
+}
+
+// An interior vertex's Meyer H, K, k1, k2 from its sums, and with them its principal directions
+// (the tensor fit's eigenvectors in the tangent frame t1, t2).
+inline void storeInteriorCurvature(int v, FanSums &sums, const Vec3 &t1, const Vec3 &t2,
+                                   bool with_directions, CurvatureField &out) {
+  const Vec3 &normal = out.normal[v];
+  const double H = -sums.laplacian.dot(normal) / (4 * sums.mixed_area);
+  const double K = (2 * M_PI - sums.angle_sum) / sums.mixed_area;
+  const double root = std::sqrt(std::max(H * H - K, 0.0));
+  out.mean[v] = H;
+  out.gauss[v] = K;
+  out.k1[v] = H + root;
+  out.k2[v] = H - root;
+  if (!with_directions) return;
+  Eigen::Matrix3d &M = sums.normal_matrix;
+  M(1, 0) = M(0, 1); // (the fan filled the upper triangle)
+  M(2, 0) = M(0, 2);
+  M(2, 1) = M(1, 2);
+  const Eigen::Vector3d tensor = solveTensorFit(M, sums.rhs);
+  tensorDirections(tensor[0], tensor[1], tensor[2], t1, t2, normal, out.dir1[v], out.dir2[v]);
+}
+
+// A boundary vertex, where the angle deficit is undefined: H, K, k1, k2 are the averages of its
+// interior 1-ring neighbours' values (0 if none), and the directions the eigenvectors of their
+// averaged anisotropic tensors (k1 − k2) d1 d1ᵀ projected into its tangent plane (its frame from
+// the first pass in dir1, dir2).
+inline void borrowBoundaryCurvature(int v, const Rings &rings,
+                                    const std::vector<std::uint8_t> &interior_valid,
+                                    bool with_directions, CurvatureField &out) {
+  double H = 0, K = 0, k1 = 0, k2 = 0;
+  Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
+  int count = 0;
+  for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) {
+    if (!interior_valid[*w]) continue;
+    H += out.mean[*w];
+    K += out.gauss[*w];
+    k1 += out.k1[*w];
+    k2 += out.k2[*w];
+    if (with_directions)
+      tensor += (out.k1[*w] - out.k2[*w]) * out.dir1[*w] * out.dir1[*w].transpose();
+    ++count;
+  }
+  if (count == 0) return;
+  out.mean[v] = H / count;
+  out.gauss[v] = K / count;
+  out.k1[v] = k1 / count;
+  out.k2[v] = k2 / count;
+  if (!with_directions) return;
+  const Vec3 t1 = out.dir1[v], t2 = out.dir2[v];
+  tensorDirections(t1.dot(tensor * t1), t1.dot(tensor * t2), t2.dot(tensor * t2), t1, t2,
+                   out.normal[v], out.dir1[v], out.dir2[v]);
+}
+
+} // namespace detail
+
 // Meyer et al. 2003 H, K, k1, k2 plus a per-vertex curvature tensor fit for the directions.
 // Non-manifold, isolated and degenerate-face vertices get zeros (directions: a tangent frame when
-// the normal exists, zero otherwise). Boundary vertices: see the second pass. `with_directions`
-// false leaves dir1 and dir2 empty and skips the tensor fit (H, K, k1, k2 are the same to the
-// bit): what describes a smoothing result needs no directions (48 bytes per vertex).
+// the normal exists, zero otherwise). Boundary vertices borrow from their interior neighbours
+// (detail::borrowBoundaryCurvature). `with_directions` false leaves dir1 and dir2 empty and skips
+// the tensor fit (H, K, k1, k2 are the same to the bit): what describes a smoothing result needs
+// no directions (48 bytes per vertex).
 inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<Face> &faces,
                              const Rings &rings, CurvatureField &out, bool with_directions = true) {
   const int n = rings.vertex_count;
@@ -158,110 +274,27 @@ inline void computeCurvature(const std::vector<Vec3> &points, const std::vector<
       if (with_directions) out.dir1[v] = t1, out.dir2[v] = t2;
     }
     if (rings.isolated[v] || rings.nonmanifold[v] || normal.squaredNorm() == 0) continue;
-
-    const Vec3 &p = points[v];
-    double mixed_area = 0, angle_sum = 0;
-    Vec3 laplacian = Vec3::Zero(); // Σ (cot α + cot β)(q_j − q_i), pointing inward on a sphere
-    // Least-squares tensor fit κ(c, s) = a c² + 2 b c s + d s² to the edges' normal curvatures,
-    // each edge weighted by the area of the face it is seen from (twice for interior edges).
-    Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+    detail::FanSums sums;
     bool has_degenerate_face = false;
-    for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v); ++f) {
-      const Face &t = faces[*f];
-      const int corner = t[0] == v ? 0 : t[1] == v ? 1 : 2;
-      const Vec3 &q = points[t[(corner + 1) % 3]], &r = points[t[(corner + 2) % 3]];
-      const Vec3 pq = q - p, pr = r - p, qr = r - q;
-      const double pq2 = pq.squaredNorm(), pr2 = pr.squaredNorm();
-      const double twice_area = pq.cross(pr).norm();
-      // As detail::isDegenerateTriangle, on the values needed below anyway.
-      const double longest2 = std::max({pq2, pr2, qr.squaredNorm()});
-      if (!(longest2 > 0) || !(twice_area > 1e-12 * longest2) || !std::isfinite(twice_area)) {
-        has_degenerate_face = true;
-        break;
-      }
-      const double dot_p = pq.dot(pr), dot_q = -pq.dot(qr), dot_r = pr.dot(qr);
-      const double cot_q = dot_q / twice_area, cot_r = dot_r / twice_area;
-      laplacian += cot_r * pq + cot_q * pr;
-      angle_sum += std::atan2(twice_area, dot_p);
-      // Meyer's mixed area: Voronoi region unless the triangle is obtuse.
-      if (dot_p >= 0 && dot_q >= 0 && dot_r >= 0)
-        mixed_area += (pr2 * cot_q + pq2 * cot_r) / 8;
-      else
-        mixed_area += dot_p < 0 ? twice_area / 4 : twice_area / 8;
-
-      for (int e = 0; e < 2; ++e) {
-        const Vec3 &edge = e == 0 ? pq : pr;
-        const double length2 = e == 0 ? pq2 : pr2;
-        const double along_normal = edge.dot(normal);
-        // The edge's direction in the tangent plane is (c, s) = (x, y)/|(x, y)|; the row
-        // (c², 2cs, s²) needs no square root.
-        const double x = edge.dot(t1), y = edge.dot(t2), tangent2 = x * x + y * y;
-        if (!with_directions || !(tangent2 > 1e-24 * length2)) continue;
-        // The neighbour lies below the tangent plane on a sphere: curvature positive.
-        const double kappa = -2 * along_normal / length2;
-        const Eigen::Vector3d row = Eigen::Vector3d(x * x, 2 * x * y, y * y) / tangent2;
-        const Eigen::Vector3d weighted = (0.5 * twice_area) * row;
-        for (int i = 0; i < 3; ++i)
-          for (int j = i; j < 3; ++j) normal_matrix(i, j) += weighted[i] * row[j];
-        rhs += kappa * weighted;
-      }
-    }
-    if (has_degenerate_face || !(mixed_area > 0)) {
+    for (const int *f = rings.facesBegin(v); f != rings.facesEnd(v) && !has_degenerate_face; ++f)
+      has_degenerate_face =
+          !detail::addFanCorner(v, faces[*f], points, normal, t1, t2, with_directions, sums);
+    if (has_degenerate_face || !(sums.mixed_area > 0)) {
       degenerate[v] = 1;
       continue;
     }
-    out.area[v] = mixed_area;
+    out.area[v] = sums.mixed_area;
     if (rings.boundary[v]) continue;
-
-    const double H = -laplacian.dot(normal) / (4 * mixed_area);
-    const double K = (2 * M_PI - angle_sum) / mixed_area;
-    const double root = std::sqrt(std::max(H * H - K, 0.0));
-    out.mean[v] = H;
-    out.gauss[v] = K;
-    out.k1[v] = H + root;
-    out.k2[v] = H - root;
+    detail::storeInteriorCurvature(v, sums, t1, t2, with_directions, out);
     interior_valid[v] = 1;
-    if (!with_directions) continue;
-    normal_matrix(1, 0) = normal_matrix(0, 1); // (the loop filled the upper triangle)
-    normal_matrix(2, 0) = normal_matrix(0, 2);
-    normal_matrix(2, 1) = normal_matrix(1, 2);
-    const Eigen::Vector3d tensor = detail::solveTensorFit(normal_matrix, rhs);
-    detail::tensorDirections(tensor[0], tensor[1], tensor[2], t1, t2, normal, out.dir1[v],
-                             out.dir2[v]);
   }
 
-  // Boundary vertices: the angle deficit is undefined there, so H, K, k1, k2 are the averages of
-  // the interior 1-ring neighbours' values (0 if none), and the directions are the eigenvectors of
-  // their averaged anisotropic tensors (k1 − k2) d1 d1ᵀ projected into this tangent plane.
   const bool any_boundary =
       std::find(rings.boundary.begin(), rings.boundary.end(), 1) != rings.boundary.end();
 #pragma omp parallel for schedule(dynamic, 2048) if (any_boundary && n >= min_parallel_vertices)
-  for (int v = 0; v < n; ++v) {
-    if (!rings.boundary[v] || rings.nonmanifold[v] || degenerate[v] || out.area[v] == 0) continue;
-    double H = 0, K = 0, k1 = 0, k2 = 0;
-    Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
-    int count = 0;
-    for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) {
-      if (!interior_valid[*w]) continue;
-      H += out.mean[*w];
-      K += out.gauss[*w];
-      k1 += out.k1[*w];
-      k2 += out.k2[*w];
-      if (with_directions)
-        tensor += (out.k1[*w] - out.k2[*w]) * out.dir1[*w] * out.dir1[*w].transpose();
-      ++count;
-    }
-    if (count == 0) continue;
-    out.mean[v] = H / count;
-    out.gauss[v] = K / count;
-    out.k1[v] = k1 / count;
-    out.k2[v] = k2 / count;
-    if (!with_directions) continue;
-    const Vec3 t1 = out.dir1[v], t2 = out.dir2[v]; // the tangent frame set in the first pass
-    detail::tensorDirections(t1.dot(tensor * t1), t1.dot(tensor * t2), t2.dot(tensor * t2), t1,
-                             t2, out.normal[v], out.dir1[v], out.dir2[v]);
-  }
+  for (int v = 0; v < n; ++v)
+    if (rings.boundary[v] && !rings.nonmanifold[v] && !degenerate[v] && out.area[v] != 0)
+      detail::borrowBoundaryCurvature(v, rings, interior_valid, with_directions, out);
 }
 
 } // namespace vcg_ext

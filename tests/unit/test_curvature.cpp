@@ -243,3 +243,74 @@ TEST(VertexNormals, AreaWeightedSumsOfTheFacesCrossProducts) {
   }
   EXPECT_EQ(boundary_count, 48);
 }
+
+// computeCurvature's stages one by one: a vertex's fan sums, the interior values from them, and
+// what a boundary vertex borrows.
+namespace {
+// A vertex at the origin with six neighbours on the unit circle at height z (a hexagon fan).
+MeshArrays hexagonFan(double z) {
+  std::vector<Vec3> points{Vec3::Zero()};
+  std::vector<Face> faces;
+  for (int k = 0; k < 6; ++k) {
+    points.emplace_back(std::cos(k * M_PI / 3), std::sin(k * M_PI / 3), z);
+    faces.push_back(Face{0, 1 + k, 1 + (k + 1) % 6});
+  }
+  return test_meshes::fromArrays(points, faces);
+}
+} // namespace
+
+TEST(CurvatureStages, FlatHexagonFanSumsToItsVoronoiAreaAndFullAngle) {
+  const MeshArrays m = hexagonFan(0.0);
+  detail::FanSums sums;
+  for (const Face &t : m.faces)
+    ASSERT_TRUE(detail::addFanCorner(0, t, m.points, Vec3::UnitZ(), Vec3::UnitX(), Vec3::UnitY(),
+                                     true, sums));
+  EXPECT_NEAR(sums.angle_sum, 2 * M_PI, 1e-12);
+  EXPECT_NEAR(sums.mixed_area, std::sqrt(3.0) / 2, 1e-12); // a third of six equilateral faces
+  EXPECT_NEAR(sums.laplacian.norm(), 0.0, 1e-12);
+  CurvatureField out;
+  out.normal = {Vec3::UnitZ()};
+  out.mean = out.gauss = out.k1 = out.k2 = {7.0};
+  detail::storeInteriorCurvature(0, sums, Vec3::UnitX(), Vec3::UnitY(), false, out);
+  EXPECT_NEAR(out.mean[0], 0.0, 1e-12);
+  EXPECT_NEAR(out.gauss[0], 0.0, 1e-12);
+}
+
+TEST(CurvatureStages, EdgeRowsOfABowlGiveItsNormalCurvatureInEveryDirection) {
+  // Neighbours half a unit below the tangent plane at distance sqrt(1.25): every edge's normal
+  // curvature is 2 * 0.5 / 1.25 = 0.8, so the fitted tensor is 0.8 times the identity.
+  const MeshArrays m = hexagonFan(-0.5);
+  detail::FanSums sums;
+  for (const Face &t : m.faces)
+    ASSERT_TRUE(detail::addFanCorner(0, t, m.points, Vec3::UnitZ(), Vec3::UnitX(), Vec3::UnitY(),
+                                     true, sums));
+  Eigen::Matrix3d M = sums.normal_matrix.selfadjointView<Eigen::Upper>();
+  const Eigen::Vector3d tensor = detail::solveTensorFit(M, sums.rhs);
+  EXPECT_NEAR(tensor[0], 0.8, 1e-12);
+  EXPECT_NEAR(tensor[1], 0.0, 1e-12);
+  EXPECT_NEAR(tensor[2], 0.8, 1e-12);
+  // A face with its three corners on a line adds nothing and says so.
+  detail::FanSums other;
+  const std::vector<Vec3> line{Vec3::Zero(), Vec3(1, 0, 0), Vec3(2, 0, 0)};
+  EXPECT_FALSE(detail::addFanCorner(0, Face{0, 1, 2}, line, Vec3::UnitZ(), Vec3::UnitX(),
+                                    Vec3::UnitY(), true, other));
+  EXPECT_EQ(other.mixed_area, 0.0);
+}
+
+TEST(CurvatureStages, BoundaryVertexBorrowsTheMeanOfItsInteriorNeighbours) {
+  const MeshArrays m = hexagonFan(0.0);
+  const Rings rings = computeRings(7, m.faces);
+  CurvatureField out;
+  out.normal.assign(7, Vec3::UnitZ());
+  out.mean.assign(7, 0.0);
+  out.gauss = out.k1 = out.k2 = out.mean;
+  std::vector<std::uint8_t> interior_valid(7, 0);
+  // Vertex 1 (on the rim) has neighbours 0, 2 and 6; only 0 and 2 count as interior here.
+  interior_valid[0] = interior_valid[2] = 1;
+  out.mean[0] = 1, out.mean[2] = 3, out.mean[6] = 100;
+  out.k1[0] = 2, out.k1[2] = 4;
+  detail::borrowBoundaryCurvature(1, rings, interior_valid, false, out);
+  EXPECT_EQ(out.mean[1], 2.0);
+  EXPECT_EQ(out.k1[1], 3.0);
+  EXPECT_EQ(out.gauss[1], 0.0);
+}
