@@ -109,6 +109,105 @@ inline NoiseFrame noiseFrame(const std::vector<Vec3> &points, const Rings &rings
   return frame;
 }
 
+// The mesh's positions in `frame` (from its lowest corner, in mean edge lengths); vertices
+// without faces at the origin.
+inline std::vector<Vec3> inNoiseFrame(const std::vector<Vec3> &points, const Rings &rings,
+                                      const NoiseFrame &frame) {
+  std::vector<Vec3> out(points.size());
+  for (int v = 0; v < int(points.size()); ++v)
+    out[v] = rings.ring1Size(v) > 0 ? Vec3((points[v] - frame.lowest) / frame.edge) : Vec3::Zero();
+  return out;
+}
+
+// The estimate's white-noise probe: a hashed Gaussian of unit std per component, constant on cells
+// of 1/16 edge of the frame's positions (so it follows the position, not the vertex's index).
+inline std::vector<Vec3f> hashedProbe(const std::vector<Vec3> &framed) {
+  const int n = int(framed.size());
+  std::vector<Vec3f> probe(n);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+  for (int v = 0; v < n; ++v)
+    probe[v] = positionHashedGaussian(Vec3((framed[v] * 16.0).array().floor()), 0x4e6f697365ull)
+                   .cast<float>();
+  return probe;
+}
+
+// The vertices the medians can count: interior, not frozen, with faces, and marked by
+// `counted_vertices` when given (the mesh's own medians also leave out the rare vertex whose
+// normal or displacement is not usable, which is read only after its last snapshot).
+inline std::vector<std::uint8_t> probedVertices(const Rings &rings, const VertexRoles &roles,
+                                                const std::vector<std::uint8_t> *counted_vertices) {
+  const int n = rings.vertex_count;
+  std::vector<std::uint8_t> interior(n);
+  for (int v = 0; v < n; ++v)
+    interior[v] = !roles.frozen[v] && !rings.boundary[v] && rings.ring1Size(v) > 0 &&
+                  (!counted_vertices || (*counted_vertices)[v]);
+  return interior;
+}
+
+// The probe's median band value |before − after| per component over the `interior` vertices.
+inline double probeBandMedian(const std::vector<Vec3f> &before, const std::vector<Vec3f> &after,
+                              const std::vector<std::uint8_t> &interior) {
+  const int n = int(interior.size());
+  std::vector<double> noise(3 * size_t(n), NAN);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+  for (int v = 0; v < n; ++v) {
+    if (!interior[v]) continue;
+    for (int k = 0; k < 3; ++k)
+      noise[3 * size_t(v) + k] = std::abs(double(before[v][k]) - double(after[v][k]));
+  }
+  eraseNaN(noise);
+  return medianOf(noise);
+}
+
+// The clean/noisy decision from the spread before (out.spread_deg) and after one Taubin pair.
+inline void decideNoisy(double smoothed_spread_deg, const NoiseEstimateParams &params,
+                        NoiseEstimate &out) {
+  out.smoothed_spread_deg = smoothed_spread_deg;
+  // A spread of a few hundredths of a degree is a flat mesh: its ratio says nothing.
+  out.decay = out.spread_deg > 0.01 ? out.smoothed_spread_deg / out.spread_deg : 1.0;
+  out.noisy = out.spread_deg >= params.noisy_spread_deg ||
+              (out.decay <= params.max_decay &&
+               out.spread_deg - out.smoothed_spread_deg >= params.min_drop_deg);
+}
+
+// The spectrum: per band b, the median |displacement| along the last snapshot's normals between
+// snapshots b and b + 1 (`snapshot[0]` the framed mesh itself) over the probe's median band
+// value; also the finest band's tail and the level. Frees each snapshot after its last read.
+inline void spectrumAlongNormals(std::vector<std::vector<Vec3>> &snapshot,
+                                 const std::vector<Face> &faces, const Rings &rings,
+                                 const std::vector<std::uint8_t> &interior,
+                                 const std::vector<double> &probe_median, NoiseEstimate &out) {
+  const int n = rings.vertex_count, bands = int(snapshot.size()) - 1;
+  std::vector<Vec3> normals;
+  computeVertexNormals(snapshot[bands], faces, rings, normals);
+  std::vector<std::uint8_t> counted(n);
+  for (int v = 0; v < n; ++v) counted[v] = interior[v] && normals[v].squaredNorm() != 0;
+  std::vector<double> along; // a non-finite displacement is left out
+  out.spectrum.assign(bands, 0.0);
+  for (int b = 0; b < bands; ++b) {
+    const std::vector<Vec3> &current = snapshot[b], &next = snapshot[b + 1];
+    along.assign(n, NAN);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+    for (int v = 0; v < n; ++v) {
+      if (!counted[v]) continue;
+      const double d = (current[v] - next[v]).dot(normals[v]);
+      if (std::isfinite(d)) along[v] = std::abs(d);
+    }
+    eraseNaN(along);
+    double squares = 0; // in vertex order, before the median reorders the values
+    if (b == 0)
+      for (double a : along) squares += a * a;
+    if (b == 0) out.counted_vertices = long(along.size());
+    const double along_median = medianOf(along);
+    if (b == 0 && along_median > 0)
+      out.tail = std::sqrt(squares / double(along.size())) / (along_median / 0.6745);
+    out.spectrum[b] = probe_median[b] > 0 ? along_median / probe_median[b] : 0.0;
+    if (b > 0) std::vector<Vec3>().swap(snapshot[b]); // read for the last time
+  }
+  out.level = out.spectrum[0];
+  out.correlated_level = *std::max_element(out.spectrum.begin(), out.spectrum.end());
+}
+
 // The estimate of the file comment in `frame`, its medians over the vertices and faces that
 // `counted_vertices` / `counted_faces` mark (null: all): a part of a larger mesh (noise_windows.h)
 // reads, on the elements it counts, the larger mesh's values when its margins are wide enough.
@@ -123,120 +222,42 @@ inline NoiseEstimate measureNoise(const std::vector<Vec3> &points, const std::ve
   if (n == 0 || faces.empty()) return out;
   // The input's spread on its own coordinates (angles do not scale): the drivers reuse it
   // (driver_setup.h), so it is measured before anything can stop the estimate.
-  out.spread_deg = detail::spreadOf(points, faces, face_rings, counted_faces);
-  const double edge = frame.edge;
-  out.mean_edge_length = edge;
-  if (!(edge > 0) || !std::isfinite(edge)) return out;
-
-  MeshArrays mesh;
-  const Vec3 lowest = frame.lowest;
-  mesh.points.resize(n);
-  for (int v = 0; v < n; ++v)
-    mesh.points[v] = rings.ring1Size(v) > 0 ? Vec3((points[v] - lowest) / edge) : Vec3::Zero();
+  out.spread_deg = spreadOf(points, faces, face_rings, counted_faces);
+  out.mean_edge_length = frame.edge;
+  if (!(frame.edge > 0) || !std::isfinite(frame.edge)) return out;
+  const int bands = int(params.band_pairs.size()) - 1;
+  // The first band is the decision's pair (the level is what that pair takes out).
+  const bool spectrum = bands >= 1 && params.band_pairs[0] == 0 && params.band_pairs[1] == 1;
 
   // One Taubin run for the mesh and its white-noise probe, as band_shrink.h does: one sweep over
   // the rings per step for both, the mesh in double (the same bits as taubinSmooth), the probe in
   // single precision (only the medians of its band values are read: half its memory traffic).
-  // The drivers' meshes are in spatial order already.
-  const SpatialTaubin taubin(mesh.points, rings, roles.frozen, roles.boundary_neighbours,
+  // The drivers' meshes are in spatial order already. Each snapshot continues the one before
+  // (the decision's pair the first) and is kept until the last one's normals are known.
+  std::vector<std::vector<Vec3>> snapshot(spectrum ? bands + 1 : 2);
+  snapshot[0] = inNoiseFrame(points, rings, frame);
+  const SpatialTaubin taubin(snapshot[0], rings, roles.frozen, roles.boundary_neighbours,
                              /*given_order=*/true);
-  const double lambda = params.lambda, mu = params.mu;
-  const std::vector<int> &edges = params.band_pairs;
-  const int bands = int(edges.size()) - 1;
-  // The first band is the decision's pair (the level is what that pair takes out).
-  const bool spectrum = bands >= 1 && edges[0] == 0 && edges[1] == 1;
-  // The probe: a hashed white noise of unit std per component (cells of 1/16 edge).
-  std::vector<Vec3f> probe(spectrum ? n : 0), probe_before;
-  if (spectrum) {
-#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
-    for (int v = 0; v < n; ++v)
-      probe[v] = detail::positionHashedGaussian(Vec3((mesh.points[v] * 16.0).array().floor()),
-                                                0x4e6f697365ull)
-                     .cast<float>();
-  }
-  // The probe's median band value (per component) over the vertices the mesh's medians can count
-  // (interior, not frozen; the mesh's own medians also leave out the rare vertex whose normal or
-  // displacement is not usable, which is read only after its last snapshot).
-  std::vector<std::uint8_t> interior(n);
-  for (int v = 0; v < n; ++v)
-    interior[v] = !roles.frozen[v] && !rings.boundary[v] && rings.ring1Size(v) > 0 &&
-                  (!counted_vertices || (*counted_vertices)[v]);
-  std::vector<double> probe_median(std::max(bands, 0), 0.0), noise;
-  auto probe_band = [&](int b) {
-    noise.assign(3 * size_t(n), NAN);
-#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
-    for (int v = 0; v < n; ++v) {
-      if (!interior[v]) continue;
-      for (int k = 0; k < 3; ++k)
-        noise[3 * size_t(v) + k] = std::abs(double(probe_before[v][k]) - double(probe[v][k]));
-    }
-    detail::eraseNaN(noise);
-    probe_median[b] = detail::medianOf(noise);
-    std::vector<double>().swap(noise); // (freed: the mesh's snapshots are held meanwhile)
-  };
-
-  // The decision: the spread before and after one pair (the probe's first band in the same run).
-  std::vector<Vec3> smoothed = mesh.points;
-  if (spectrum) {
-    probe_before = probe;
-    taubin.smooth({&smoothed}, {&probe}, 1, lambda, mu);
-    probe_band(0);
-  } else {
-    taubin.smooth({&smoothed}, 1, lambda, mu);
-  }
-  out.smoothed_spread_deg = detail::spreadOf(smoothed, faces, face_rings, counted_faces);
-  // A spread of a few hundredths of a degree is a flat mesh: its ratio says nothing.
-  out.decay = out.spread_deg > 0.01 ? out.smoothed_spread_deg / out.spread_deg : 1.0;
-  out.noisy = out.spread_deg >= params.noisy_spread_deg ||
-              (out.decay <= params.max_decay &&
-               out.spread_deg - out.smoothed_spread_deg >= params.min_drop_deg);
-  if (!spectrum) return out;
-
-  // The spectrum: the mesh's Taubin bands along the normals of its last snapshot, against the
-  // probe's through the same steps. Each snapshot continues the one before (the decision's pair
-  // the first) and is kept until the last one's normals are known.
-  std::vector<std::vector<Vec3>> snapshot(bands + 1); // snapshot[0]: the mesh itself
-  snapshot[1].swap(smoothed);
-  for (int b = 1; b < bands; ++b) {
+  std::vector<Vec3f> probe = spectrum ? hashedProbe(snapshot[0]) : std::vector<Vec3f>();
+  const std::vector<std::uint8_t> interior = probedVertices(rings, roles, counted_vertices);
+  std::vector<double> probe_median(std::max(bands, 0), 0.0);
+  std::vector<Vec3f> probe_before;
+  for (int b = 0; b < (spectrum ? bands : 1); ++b) {
+    const int pairs = spectrum ? params.band_pairs[b + 1] - params.band_pairs[b] : 1;
     snapshot[b + 1] = snapshot[b];
-    probe_before = probe;
-    taubin.smooth({&snapshot[b + 1]}, {&probe}, edges[b + 1] - edges[b], lambda, mu);
-    probe_band(b);
+    if (spectrum) {
+      probe_before = probe;
+      taubin.smooth({&snapshot[b + 1]}, {&probe}, pairs, params.lambda, params.mu);
+      probe_median[b] = probeBandMedian(probe_before, probe, interior);
+    } else {
+      taubin.smooth({&snapshot[b + 1]}, pairs, params.lambda, params.mu);
+    }
+    if (b == 0) decideNoisy(spreadOf(snapshot[1], faces, face_rings, counted_faces), params, out);
   }
+  if (!spectrum) return out;
   std::vector<Vec3f>().swap(probe);
   std::vector<Vec3f>().swap(probe_before);
-  auto at = [&](int b) -> const std::vector<Vec3> & {
-    return b == 0 ? mesh.points : snapshot[b];
-  };
-  std::vector<Vec3> normals;
-  computeVertexNormals(at(bands), faces, rings, normals);
-  std::vector<std::uint8_t> counted(n);
-  for (int v = 0; v < n; ++v) counted[v] = interior[v] && normals[v].squaredNorm() != 0;
-  // Per band: the median displacement along the normals (a non-finite one is left out).
-  std::vector<double> along;
-  out.spectrum.assign(bands, 0.0);
-  for (int b = 0; b < bands; ++b) {
-    const std::vector<Vec3> &current = at(b), &next = at(b + 1);
-    along.assign(n, NAN);
-#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
-    for (int v = 0; v < n; ++v) {
-      if (!counted[v]) continue;
-      const double d = (current[v] - next[v]).dot(normals[v]);
-      if (std::isfinite(d)) along[v] = std::abs(d);
-    }
-    detail::eraseNaN(along);
-    double squares = 0; // in vertex order, before the median reorders the values
-    if (b == 0)
-      for (double a : along) squares += a * a;
-    if (b == 0) out.counted_vertices = long(along.size());
-    const double along_median = detail::medianOf(along);
-    if (b == 0 && along_median > 0)
-      out.tail = std::sqrt(squares / double(along.size())) / (along_median / 0.6745);
-    out.spectrum[b] = probe_median[b] > 0 ? along_median / probe_median[b] : 0.0;
-    if (b > 0) std::vector<Vec3>().swap(snapshot[b]); // read for the last time
-  }
-  out.level = out.spectrum[0];
-  out.correlated_level = *std::max_element(out.spectrum.begin(), out.spectrum.end());
+  spectrumAlongNormals(snapshot, faces, rings, interior, probe_median, out);
   return out;
 }
 

@@ -228,3 +228,73 @@ TEST(NoiseEstimate, HeavyTailFactorRampsWithTheLevelAndIsCapped) {
   e.tail = 0.9; // lighter tails than Gaussian noise's: never less than the measured amount
   EXPECT_EQ(heavyTailFactor(e, params), 1.0);
 }
+
+// measureNoise's stages one by one.
+TEST(NoiseEstimateStages, DecisionReadsTheSpreadAndWhatOnePairLeavesOfIt) {
+  const NoiseEstimateParams params;
+  auto decided = [&](double spread, double smoothed) {
+    NoiseEstimate e;
+    e.spread_deg = spread;
+    detail::decideNoisy(smoothed, params, e);
+    return e;
+  };
+  EXPECT_TRUE(decided(55, 54).noisy);                 // above 50°: noisy whatever the decay
+  const NoiseEstimate dropped = decided(10, 6);        // decay 0.6 and 4° gone
+  EXPECT_TRUE(dropped.noisy);
+  EXPECT_DOUBLE_EQ(dropped.decay, 0.6);
+  EXPECT_FALSE(decided(10, 9).noisy);                  // decay 0.9 > 0.85
+  EXPECT_FALSE(decided(3, 1).noisy);                   // decay 0.33 but only 2° gone
+  const NoiseEstimate flat = decided(0.005, 0.001);    // a flat mesh: no ratio
+  EXPECT_EQ(flat.decay, 1.0);
+  EXPECT_FALSE(flat.noisy);
+}
+
+TEST(NoiseEstimateStages, ProbeBandMedianCountsOnlyTheMarkedVertices) {
+  const std::vector<Vec3f> before{Vec3f(1, 2, 3), Vec3f(0, 0, 0), Vec3f(5, 5, 5)};
+  const std::vector<Vec3f> after{Vec3f(1, 1, 1), Vec3f(9, 9, 9), Vec3f(5, 2, 5)};
+  // Vertex 1 not counted: the differences 0, 1, 2 and 0, 3, 0 sorted, the median at index 3.
+  EXPECT_EQ(detail::probeBandMedian(before, after, {1, 0, 1}), 1.0);
+  EXPECT_EQ(detail::probeBandMedian(before, after, {0, 1, 0}), 9.0);
+}
+
+TEST(NoiseEstimateStages, SpectrumIsTheMedianAlongTheNormalsOverTheProbesMedian) {
+  // A flat grid lifted by 0.1 or 0.3 (alternating rows) in band 0, and nothing in band 1.
+  const MeshArrays flat = test_meshes::heightField(12, 0, 1, 0, 1, [](double, double) { return 0; });
+  const Rings rings = computeRings(int(flat.points.size()), flat.faces);
+  std::vector<std::vector<Vec3>> snapshot(3, flat.points);
+  for (size_t v = 0; v < flat.points.size(); ++v)
+    snapshot[0][v].z() = (v / 12) % 2 ? 0.3 : 0.1;
+  std::vector<std::uint8_t> interior(flat.points.size());
+  for (size_t v = 0; v < interior.size(); ++v) interior[v] = !rings.boundary[v];
+  NoiseEstimate e;
+  detail::spectrumAlongNormals(snapshot, flat.faces, rings, interior, {0.5, 0.5}, e);
+  ASSERT_EQ(e.spectrum.size(), 2u);
+  EXPECT_EQ(e.counted_vertices, 100); // the 10 x 10 interior vertices
+  EXPECT_NEAR(e.spectrum[0], 0.3 / 0.5, 1e-12); // median of 50 × 0.1 and 50 × 0.3: the 51st
+  EXPECT_EQ(e.spectrum[1], 0.0);
+  EXPECT_EQ(e.level, e.spectrum[0]);
+  EXPECT_EQ(e.correlated_level, e.spectrum[0]);
+  EXPECT_NEAR(e.tail, std::sqrt((0.01 + 0.09) / 2) / (0.3 / 0.6745), 1e-12);
+  EXPECT_TRUE(snapshot[1].empty()); // freed after its last read
+}
+
+TEST(NoiseEstimateStages, ProbeFollowsThePositionInTheFrameNotTheIndex) {
+  const MeshArrays m = wavyField();
+  const Rings rings = computeRings(int(m.points.size()), m.faces);
+  const detail::NoiseFrame frame = detail::noiseFrame(m.points, rings, 0.05);
+  const std::vector<Vec3> framed = detail::inNoiseFrame(m.points, rings, frame);
+  EXPECT_EQ(framed[0], Vec3((m.points[0] - frame.lowest) / 0.05));
+  // Moved as a whole, the mesh has the same framed positions and probe.
+  MeshArrays moved = m;
+  for (Vec3 &p : moved.points) p += Vec3(3, -2, 7);
+  const std::vector<Vec3> framed_moved =
+      detail::inNoiseFrame(moved.points, rings, detail::noiseFrame(moved.points, rings, 0.05));
+  const std::vector<Vec3f> probe = detail::hashedProbe(framed);
+  double largest = 0;
+  for (size_t v = 0; v < framed.size(); ++v)
+    largest = std::max(largest, (framed[v] - framed_moved[v]).norm());
+  EXPECT_LT(largest, 1e-9);
+  double sum2 = 0;
+  for (const Vec3f &p : probe) sum2 += double(p.squaredNorm()) / (3.0 * probe.size());
+  EXPECT_NEAR(sum2, 1.0, 0.05); // unit std per component
+}
