@@ -147,6 +147,94 @@ template <class T> void parallelSort(std::vector<T> &values) {
 
 } // namespace detail
 
+namespace detail {
+
+// Faces around each vertex, in face order (a face naming a vertex twice is listed twice).
+inline void facesAroundVertices(int n, const std::vector<Face> &faces, Rings &r) {
+  r.face_offsets.assign(n + 1, 0);
+  for (const Face &f : faces)
+    for (int k = 0; k < 3; ++k) ++r.face_offsets[f[k] + 1];
+  for (int v = 0; v < n; ++v) r.face_offsets[v + 1] += r.face_offsets[v];
+  r.faces.resize(r.face_offsets[n]);
+  std::vector<int> cursor(r.face_offsets.begin(), r.face_offsets.end() - 1);
+  for (int f = 0; f < int(faces.size()); ++f)
+    for (int k = 0; k < 3; ++k) r.faces[cursor[faces[f][k]]++] = f;
+}
+
+// The other ends of the half-edges (f[k], f[k+1]) of v's faces that touch v, sorted: each
+// neighbour as often as it has faces with v across their shared edge.
+inline void edgeEndsAround(int v, const Rings &r, const std::vector<Face> &faces,
+                           std::vector<int> &ends) {
+  ends.clear();
+  for (const int *f = r.facesBegin(v); f != r.facesEnd(v); ++f) {
+    if (f != r.facesBegin(v) && *f == f[-1]) continue; // the same face again
+    const Face &t = faces[*f];
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      if (a == b) continue;
+      if (a == v) ends.push_back(b);
+      else if (b == v) ends.push_back(a);
+    }
+  }
+  std::sort(ends.begin(), ends.end());
+}
+
+// Whether v's faces (at least one) form one fan: its link (the edges opposite to it) is one path
+// or one cycle. Counts the link's connected components by repeatedly absorbing faces that share a
+// neighbour with the growing fan; a second component is a "bow-tie".
+inline bool facesFormOneFan(int v, const Rings &r, const std::vector<Face> &faces) {
+  thread_local std::vector<int> fan_faces, members;
+  fan_faces.assign(r.facesBegin(v), r.facesEnd(v));
+  members.clear();
+  auto others = [&](int f, int k) {
+    const Face &t = faces[f];
+    return t[0] == v ? (k ? t[2] : t[1]) : t[1] == v ? (k ? t[0] : t[2]) : (k ? t[1] : t[0]);
+  };
+  members.push_back(others(fan_faces.back(), 0));
+  members.push_back(others(fan_faces.back(), 1));
+  fan_faces.pop_back();
+  for (bool grew = true; grew && !fan_faces.empty();) {
+    grew = false;
+    for (size_t k = 0; k < fan_faces.size();) {
+      const int a = others(fan_faces[k], 0), b = others(fan_faces[k], 1);
+      const bool touches = std::find(members.begin(), members.end(), a) != members.end() ||
+                           std::find(members.begin(), members.end(), b) != members.end();
+      if (touches) {
+        members.push_back(a);
+        members.push_back(b);
+        fan_faces[k] = fan_faces.back();
+        fan_faces.pop_back();
+        grew = true;
+      } else {
+        ++k;
+      }
+    }
+  }
+  return fan_faces.empty();
+}
+
+// v's 2-ring: the union of its neighbours' (sorted) 1-rings and its own, without v. A
+// non-manifold neighbour is included but not expanded: its 1-ring reaches into other sheets (a
+// fin, a second fan), which would bend the patch fitted to this one (measured: a fin of height
+// 0.3 on a unit grid lifted its neighbours by 0.07). Merging sorted lists costs less than sorting
+// their concatenation.
+inline void mergedTwoRing(int v, const Rings &r, std::vector<int> &out) {
+  thread_local std::vector<int> ring, merged;
+  ring.assign(r.ring1Begin(v), r.ring1End(v));
+  for (const int *a = r.ring1Begin(v); a != r.ring1End(v); ++a) {
+    if (r.nonmanifold[*a]) continue;
+    merged.resize(ring.size() + r.ring1Size(*a));
+    merged.erase(std::set_union(ring.begin(), ring.end(), r.ring1Begin(*a), r.ring1End(*a),
+                                merged.begin()),
+                 merged.end());
+    ring.swap(merged);
+  }
+  for (int w : ring)
+    if (w != v) out.push_back(w);
+}
+
+} // namespace detail
+
 // Builds the rings of a triangle mesh with `vertex_count` vertices. Every list is gathered per
 // vertex from its own faces (no global sort of the edges), in parallel, in vertex order.
 // `with_two_rings` false leaves the 2-rings empty: only the paper's patches read them, and they
@@ -156,42 +244,19 @@ inline Rings computeRings(int vertex_count, const std::vector<Face> &faces,
   Rings r;
   r.vertex_count = vertex_count;
   const int n = vertex_count;
-
-  // Faces around each vertex, in face order (a face naming a vertex twice is listed twice).
-  r.face_offsets.assign(n + 1, 0);
-  for (const Face &f : faces)
-    for (int k = 0; k < 3; ++k) ++r.face_offsets[f[k] + 1];
-  for (int v = 0; v < n; ++v) r.face_offsets[v + 1] += r.face_offsets[v];
-  r.faces.resize(r.face_offsets[n]);
-  {
-    std::vector<int> cursor(r.face_offsets.begin(), r.face_offsets.end() - 1);
-    for (int f = 0; f < int(faces.size()); ++f)
-      for (int k = 0; k < 3; ++k) r.faces[cursor[faces[f][k]]++] = f;
-  }
-
+  detail::facesAroundVertices(n, faces, r);
   r.boundary.assign(n, 0);
   r.nonmanifold.assign(n, 0);
   r.isolated.assign(n, 0);
-  // 1-ring and each edge's face count: the half-edges (f[k], f[k+1]) of v's faces that touch v.
-  // An edge used by one face is a boundary edge, by more than two a non-manifold one; each edge is
-  // counted once overall, from its smaller end. Then the fan test (isolated and bow-tie vertices).
-  // Per block of buildCsrInBlocks (one thread each): edge counts without a shared counter.
+  // 1-ring and each edge's face count: an edge used by one face is a boundary edge, by more than
+  // two a non-manifold one; each edge is counted once overall, from its smaller end. Then the fan
+  // test (isolated and bow-tie vertices). Per block of buildCsrInBlocks (one thread each): edge
+  // counts without a shared counter.
   const int blocks = n / detail::kCsrBlock + 1;
   std::vector<long> block_boundary_edges(blocks, 0), block_nonmanifold_edges(blocks, 0);
   detail::buildCsrInBlocks(n, r.ring1_offsets, r.ring1, [&](int v, std::vector<int> &out) {
     thread_local std::vector<int> ends;
-    ends.clear();
-    for (const int *f = r.facesBegin(v); f != r.facesEnd(v); ++f) {
-      if (f != r.facesBegin(v) && *f == f[-1]) continue; // the same face again
-      const Face &t = faces[*f];
-      for (int k = 0; k < 3; ++k) {
-        const int a = t[k], b = t[(k + 1) % 3];
-        if (a == b) continue;
-        if (a == v) ends.push_back(b);
-        else if (b == v) ends.push_back(a);
-      }
-    }
-    std::sort(ends.begin(), ends.end());
+    detail::edgeEndsAround(v, r, faces, ends);
     for (size_t i = 0; i < ends.size();) {
       size_t j = i;
       while (j < ends.size() && ends[j] == ends[i]) ++j;
@@ -201,66 +266,14 @@ inline Rings computeRings(int vertex_count, const std::vector<Face> &faces,
       out.push_back(w);
       i = j;
     }
-
-    // A manifold vertex's faces form one fan: its link (the edges opposite to it) is one path or
-    // one cycle. Count the link's connected components by repeatedly absorbing faces that share a
-    // neighbour with the growing fan; a second component is a "bow-tie".
-    if (r.facesBegin(v) == r.facesEnd(v)) {
-      r.isolated[v] = 1;
-      return;
-    }
-    thread_local std::vector<int> fan_faces, members;
-    fan_faces.assign(r.facesBegin(v), r.facesEnd(v));
-    members.clear();
-    auto others = [&](int f, int k) {
-      const Face &t = faces[f];
-      return t[0] == v ? (k ? t[2] : t[1]) : t[1] == v ? (k ? t[0] : t[2]) : (k ? t[1] : t[0]);
-    };
-    members.push_back(others(fan_faces.back(), 0));
-    members.push_back(others(fan_faces.back(), 1));
-    fan_faces.pop_back();
-    for (bool grew = true; grew && !fan_faces.empty();) {
-      grew = false;
-      for (size_t k = 0; k < fan_faces.size();) {
-        const int a = others(fan_faces[k], 0), b = others(fan_faces[k], 1);
-        const bool touches = std::find(members.begin(), members.end(), a) != members.end() ||
-                             std::find(members.begin(), members.end(), b) != members.end();
-        if (touches) {
-          members.push_back(a);
-          members.push_back(b);
-          fan_faces[k] = fan_faces.back();
-          fan_faces.pop_back();
-          grew = true;
-        } else {
-          ++k;
-        }
-      }
-    }
-    if (!fan_faces.empty()) r.nonmanifold[v] = 1;
+    if (r.facesBegin(v) == r.facesEnd(v)) r.isolated[v] = 1;
+    else if (!detail::facesFormOneFan(v, r, faces)) r.nonmanifold[v] = 1;
   });
   for (long c : block_boundary_edges) r.boundary_edges += c;
   for (long c : block_nonmanifold_edges) r.nonmanifold_edges += c;
-
-  // 2-ring: union of the neighbours' 1-rings, sorted, without v itself. A non-manifold neighbour is
-  // included but not expanded: its 1-ring reaches into other sheets (a fin, a second fan), which
-  // would bend the patch fitted to this one (measured: a fin of height 0.3 on a unit grid lifted
-  // its neighbours by 0.07).
-  // The 1-rings are sorted: merging them costs less than sorting their concatenation.
-  if (!with_two_rings) return r;
-  detail::buildCsrInBlocks(n, r.ring2_offsets, r.ring2, [&](int v, std::vector<int> &out) {
-    thread_local std::vector<int> ring, merged;
-    ring.assign(r.ring1Begin(v), r.ring1End(v));
-    for (const int *a = r.ring1Begin(v); a != r.ring1End(v); ++a) {
-      if (r.nonmanifold[*a]) continue;
-      merged.resize(ring.size() + r.ring1Size(*a));
-      merged.erase(std::set_union(ring.begin(), ring.end(), r.ring1Begin(*a), r.ring1End(*a),
-                                  merged.begin()),
-                   merged.end());
-      ring.swap(merged);
-    }
-    for (int w : ring)
-      if (w != v) out.push_back(w);
-  });
+  if (with_two_rings)
+    detail::buildCsrInBlocks(n, r.ring2_offsets, r.ring2,
+                             [&](int v, std::vector<int> &out) { detail::mergedTwoRing(v, r, out); });
   return r;
 }
 

@@ -53,3 +53,50 @@ TEST(Rings, EdgeSharedByThreeFacesIsNonManifold) {
   EXPECT_TRUE(r.nonmanifold[1]);
   EXPECT_FALSE(r.nonmanifold[2]);
 }
+
+// computeRings' stages one by one.
+TEST(RingsStages, FacesAroundVerticesAndTheirEdgeEnds) {
+  // Two triangles sharing the edge 1-2; vertex 4 has no face.
+  const std::vector<Face> faces{{0, 1, 2}, {1, 3, 2}};
+  Rings r;
+  r.vertex_count = 5;
+  detail::facesAroundVertices(5, faces, r);
+  EXPECT_EQ(r.face_offsets, (std::vector<int>{0, 1, 3, 5, 6, 6}));
+  EXPECT_EQ(r.faces, (std::vector<int>{0, 0, 1, 0, 1, 1}));
+  std::vector<int> ends;
+  detail::edgeEndsAround(1, r, faces, ends);
+  EXPECT_EQ(ends, (std::vector<int>{0, 2, 2, 3})); // the shared edge twice, the others once
+  detail::edgeEndsAround(4, r, faces, ends);
+  EXPECT_TRUE(ends.empty());
+}
+
+TEST(RingsStages, OneFanOrABowTie) {
+  // Vertex 0 in two triangles that share only it (a bow-tie), then in a fan of two.
+  const std::vector<Face> bow_tie{{0, 1, 2}, {0, 3, 4}}, fan{{0, 1, 2}, {0, 2, 3}};
+  for (const auto &[faces, one_fan] : {std::make_pair(bow_tie, false), std::make_pair(fan, true)}) {
+    Rings r;
+    r.vertex_count = 5;
+    detail::facesAroundVertices(5, faces, r);
+    EXPECT_EQ(detail::facesFormOneFan(0, r, faces), one_fan);
+    EXPECT_TRUE(detail::facesFormOneFan(1, r, faces)); // a single face is one fan
+  }
+}
+
+TEST(RingsStages, TwoRingSkipsTheVertexAndDoesNotExpandNonManifoldNeighbours) {
+  const MeshArrays grid = test_meshes::heightField(7, 0, 1, 0, 1, [](double, double) { return 0; });
+  Rings r = computeRings(49, grid.faces, /*with_two_rings=*/false);
+  const int centre = 3 * 7 + 3;
+  std::vector<int> two;
+  detail::mergedTwoRing(centre, r, two);
+  EXPECT_EQ(two.size(), 18u); // valence 6: 6 + 12
+  EXPECT_TRUE(std::is_sorted(two.begin(), two.end()));
+  EXPECT_EQ(std::count(two.begin(), two.end(), centre), 0);
+  // (4, 3), a neighbour, made non-manifold: (5, 3), which only it reaches, leaves the 2-ring.
+  EXPECT_EQ(std::count(two.begin(), two.end(), centre + 2), 1);
+  r.nonmanifold[centre + 1] = 1;
+  two.clear();
+  detail::mergedTwoRing(centre, r, two);
+  EXPECT_EQ(std::count(two.begin(), two.end(), centre + 2), 0);
+  EXPECT_EQ(std::count(two.begin(), two.end(), centre + 1), 1); // still in, as a neighbour
+  EXPECT_LT(two.size(), 18u);
+}
