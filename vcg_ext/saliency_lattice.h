@@ -312,43 +312,69 @@ inline void convolveLatticeRows(const SparseLattice &lattice, const LatticeKerne
   }
 }
 
-// G at every σ of `sigmas` (a chain σ₀, 2σ₀, 4σ₀, … when options.chains_only) at every point:
-// means[s][a] for point a. Points near in space should be near in the array (cache).
-inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
-                                      const std::vector<double> &sigmas,
-                                      const LatticeOptions &options,
-                                      std::vector<std::vector<double>> &means,
-                                      bool parallel = true) {
-  const int m = int(points.size()), S = int(sigmas.size());
-  if (m == 0 || S == 0) return;
-  const int k = std::max(1, options.nodes_per_sigma);
-  // Level of each σ: spacing base_h · 2^level with k ≤ σ/h < 2k.
+// A chain's nested lattices: spacing base_h · 2^L on level L, one origin (one spare node below
+// and two above on every lattice, so that neighbours never wrap around a row). For each level
+// above the finest, each finer node's coarse parents (−1: none) and their shared weight: fine node
+// 2I + {−1, 0, 1} (per axis) belongs to coarse node I with weight ½, 1, ½.
+struct LatticePyramid {
+  Vec3 origin = Vec3::Zero();
+  std::vector<SparseLattice> lattice;
+  std::vector<std::vector<std::array<int, 8>>> parents; // parents[L][node of L − 1]
+  std::vector<std::vector<double>> parent_weight;
+  int levels() const { return int(lattice.size()); }
+};
+
+// The chain's σ on their levels: level[s] with k ≤ σ_s / h_L < 2k (h_L = base_h · 2^L, base_h
+// the smallest σ over k); returns the number of levels.
+inline int sigmaLevels(const std::vector<double> &sigmas, int k, double &base_h,
+                       std::vector<int> &level) {
   const double smallest = *std::min_element(sigmas.begin(), sigmas.end());
-  const double base_h = smallest / k;
-  std::vector<int> level(S);
+  base_h = smallest / k;
+  level.resize(sigmas.size());
   int levels = 1;
-  for (int s = 0; s < S; ++s) {
+  for (size_t s = 0; s < sigmas.size(); ++s) {
     level[s] = std::max(0, int(std::floor(std::log2(sigmas[s] / smallest) + 1e-9)));
     levels = std::max(levels, level[s] + 1);
   }
+  return levels;
+}
 
+// The pyramid's frame around `points`, its lattices still empty.
+inline LatticePyramid emptyPyramid(const std::vector<WeightedPoint> &points, double base_h,
+                                   int levels) {
   Vec3 lo = Vec3::Constant(INFINITY), hi = -lo;
   for (const WeightedPoint &p : points) lo = lo.cwiseMin(p.position()), hi = hi.cwiseMax(p.position());
-  // One spare node below and two above on every lattice: neighbours never wrap around a row.
-  const Vec3 origin = lo - Vec3::Constant(base_h);
-  std::vector<SparseLattice> lattice(levels);
+  LatticePyramid pyramid;
+  pyramid.origin = lo - Vec3::Constant(base_h);
+  pyramid.lattice.resize(levels);
+  pyramid.parents.resize(levels);
+  pyramid.parent_weight.resize(levels);
   for (int L = 0; L < levels; ++L) {
-    lattice[L].h = base_h * std::ldexp(1.0, L);
-    lattice[L].nx = std::uint64_t((hi.x() - origin.x()) / lattice[L].h) + 4;
-    lattice[L].ny = std::uint64_t((hi.y() - origin.y()) / lattice[L].h) + 4;
+    SparseLattice &lattice = pyramid.lattice[L];
+    lattice.h = base_h * std::ldexp(1.0, L);
+    lattice.nx = std::uint64_t((hi.x() - pyramid.origin.x()) / lattice.h) + 4;
+    lattice.ny = std::uint64_t((hi.y() - pyramid.origin.y()) / lattice.h) + 4;
   }
-  const SparseLattice &base = lattice[0];
+  return pyramid;
+}
 
-  // Cells of the finest lattice holding points; the points grouped by cell (in array order within
-  // a cell, so the sums below do not depend on the thread count).
+// The cells of the finest lattice that hold points, the points grouped by cell (in array order
+// within a cell, so that the sums over them do not depend on the thread count), and each cell's
+// 8 corners as nodes of the finest lattice (which this fills).
+struct PointCells {
+  std::vector<int> start;  // points of cell c: point[start[c]] … point[start[c + 1] − 1]
+  std::vector<int> point;
+  std::vector<std::array<int, 8>> corners;
+  int size() const { return int(corners.size()); }
+};
+
+inline PointCells bucketIntoCells(const std::vector<WeightedPoint> &points,
+                                  LatticePyramid &pyramid, bool parallel) {
+  const int m = int(points.size());
+  SparseLattice &base = pyramid.lattice[0];
   std::vector<std::uint64_t> vertex_key(m);
   for (int a = 0; a < m; ++a) {
-    const Vec3 g = (points[a].position() - origin) / base.h;
+    const Vec3 g = (points[a].position() - pyramid.origin) / base.h;
     vertex_key[a] =
         (std::uint64_t(g.z()) * base.ny + std::uint64_t(g.y())) * base.nx + std::uint64_t(g.x());
   }
@@ -360,47 +386,54 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
   }
   std::vector<std::uint64_t>().swap(vertex_key);
   const int cell_count = cells.size();
-  std::vector<int> cell_start(cell_count + 1, 0), cell_vertices(m);
-  for (int a = 0; a < m; ++a) ++cell_start[cell_of[a] + 1];
-  for (int c = 0; c < cell_count; ++c) cell_start[c + 1] += cell_start[c];
+  PointCells out;
+  out.start.assign(cell_count + 1, 0);
+  out.point.resize(m);
+  for (int a = 0; a < m; ++a) ++out.start[cell_of[a] + 1];
+  for (int c = 0; c < cell_count; ++c) out.start[c + 1] += out.start[c];
   {
-    std::vector<int> cursor(cell_start.begin(), cell_start.end() - 1);
-    for (int a = 0; a < m; ++a) cell_vertices[cursor[cell_of[a]]++] = a;
+    std::vector<int> cursor(out.start.begin(), out.start.end() - 1);
+    for (int a = 0; a < m; ++a) out.point[cursor[cell_of[a]]++] = a;
   }
   std::vector<int>().swap(cell_of);
-
-  // Finest nodes: the corners of those cells.
-  std::vector<std::array<int, 8>> corners(cell_count);
-  {
-    KeyIndex nodes(size_t(cell_count) * 2 + 16);
-    for (int c = 0; c < cell_count; ++c)
-      for (int corner = 0; corner < 8; ++corner)
-        corners[c][corner] =
-            nodes.insert(cells.keys()[c] + (corner & 1) + ((corner >> 1) & 1) * base.nx +
-                         ((corner >> 2) & 1) * base.nx * base.ny);
-    const std::vector<int> position = lattice[0].assign(nodes.keys(), parallel);
-    for (auto &c : corners)
-      for (int &node : c) node = position[node];
-  }
-
-  auto trilinear = [&](const Vec3 &p, double w[8]) {
-    const Vec3 g = (p - origin) / base.h;
-    const double fx = g.x() - std::floor(g.x()), fy = g.y() - std::floor(g.y()),
-                 fz = g.z() - std::floor(g.z());
+  out.corners.resize(cell_count);
+  KeyIndex nodes(size_t(cell_count) * 2 + 16);
+  for (int c = 0; c < cell_count; ++c)
     for (int corner = 0; corner < 8; ++corner)
-      w[corner] = (corner & 1 ? fx : 1 - fx) * (corner & 2 ? fy : 1 - fy) *
-                  (corner & 4 ? fz : 1 - fz);
-  };
+      out.corners[c][corner] =
+          nodes.insert(cells.keys()[c] + (corner & 1) + ((corner >> 1) & 1) * base.nx +
+                       ((corner >> 2) & 1) * base.nx * base.ny);
+  const std::vector<int> position = base.assign(nodes.keys(), parallel);
+  for (auto &c : out.corners)
+    for (int &node : c) node = position[node];
+  return out;
+}
 
-  // Splat: each cell's share of its 8 corners (parallel), then the cells into the nodes (serial).
+// The trilinear weights of `p`'s 8 cell corners on the lattice of spacing h from `origin`.
+inline void trilinearWeights(const Vec3 &p, const Vec3 &origin, double h, double w[8]) {
+  const Vec3 g = (p - origin) / h;
+  const double fx = g.x() - std::floor(g.x()), fy = g.y() - std::floor(g.y()),
+               fz = g.z() - std::floor(g.z());
+  for (int corner = 0; corner < 8; ++corner)
+    w[corner] =
+        (corner & 1 ? fx : 1 - fx) * (corner & 2 ? fy : 1 - fy) * (corner & 4 ? fz : 1 - fz);
+}
+
+// The points' (value, 1) splatted onto the finest lattice: (sum, weight) per node. Each cell's
+// share of its 8 corners first (in parallel), then the cells into the nodes (serially).
+inline std::vector<double> splatPoints(const std::vector<WeightedPoint> &points,
+                                       const PointCells &cells, const LatticePyramid &pyramid,
+                                       bool parallel) {
+  const int m = int(points.size()), cell_count = cells.size();
+  const double h = pyramid.lattice[0].h;
   std::vector<std::array<double, 16>> cell_splat(cell_count);
 #pragma omp parallel for schedule(dynamic, 256) if (parallel && m >= min_parallel_vertices)
   for (int c = 0; c < cell_count; ++c) {
     std::array<double, 16> acc{};
-    for (int i = cell_start[c]; i < cell_start[c + 1]; ++i) {
-      const WeightedPoint &p = points[cell_vertices[i]];
+    for (int i = cells.start[c]; i < cells.start[c + 1]; ++i) {
+      const WeightedPoint &p = points[cells.point[i]];
       double w[8];
-      trilinear(p.position(), w);
+      trilinearWeights(p.position(), pyramid.origin, h, w);
       for (int corner = 0; corner < 8; ++corner) {
         acc[2 * corner] += w[corner] * p.value;
         acc[2 * corner + 1] += w[corner];
@@ -408,64 +441,75 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
     }
     cell_splat[c] = acc;
   }
-  // splat[L]: (sum, weight) per node of lattice L.
-  std::vector<std::vector<double>> splat(levels);
-  splat[0].assign(2 * size_t(base.size()), 0.0);
+  std::vector<double> splat(2 * size_t(pyramid.lattice[0].size()), 0.0);
   for (int c = 0; c < cell_count; ++c)
     for (int corner = 0; corner < 8; ++corner) {
-      splat[0][2 * size_t(corners[c][corner])] += cell_splat[c][2 * corner];
-      splat[0][2 * size_t(corners[c][corner]) + 1] += cell_splat[c][2 * corner + 1];
+      splat[2 * size_t(cells.corners[c][corner])] += cell_splat[c][2 * corner];
+      splat[2 * size_t(cells.corners[c][corner]) + 1] += cell_splat[c][2 * corner + 1];
     }
-  std::vector<std::array<double, 16>>().swap(cell_splat);
+  return splat;
+}
 
-  // Coarser lattices: fine node 2I + {−1, 0, 1} (per axis) belongs to coarse node I with weight
-  // ½, 1, ½. parents[L][fine node] lists its coarse nodes (−1: none); all share one weight.
-  std::vector<std::vector<std::array<int, 8>>> parents(levels);
-  std::vector<std::vector<double>> parent_weight(levels);
-  for (int L = 1; L < levels; ++L) {
-    const SparseLattice &fine = lattice[L - 1];
-    SparseLattice &coarse = lattice[L];
-    const int fine_count = fine.size();
-    auto &up = parents[L];
-    up.assign(fine_count, {-1, -1, -1, -1, -1, -1, -1, -1});
-    parent_weight[L].resize(fine_count);
-    KeyIndex nodes(size_t(fine_count) / 4 + 16);
-    for (int p = 0; p < fine_count; ++p) {
-      const std::uint64_t key = fine.key[p];
-      const std::uint64_t i = key % fine.nx, j = (key / fine.nx) % fine.ny,
-                          l = key / (fine.nx * fine.ny);
-      const std::uint64_t ci[2] = {i / 2, (i + 1) / 2}, cj[2] = {j / 2, (j + 1) / 2},
-                          cl[2] = {l / 2, (l + 1) / 2};
-      const int ni = 1 + int(i & 1), nj = 1 + int(j & 1), nl = 1 + int(l & 1);
-      parent_weight[L][p] = 1.0 / (ni * nj * nl);
-      int count = 0;
-      for (int c = 0; c < nl; ++c)
-        for (int b = 0; b < nj; ++b)
-          for (int a = 0; a < ni; ++a)
-            up[p][count++] = nodes.insert((cl[c] * coarse.ny + cj[b]) * coarse.nx + ci[a]);
-    }
-    const std::vector<int> position = coarse.assign(nodes.keys(), parallel);
-    splat[L].assign(2 * size_t(coarse.size()), 0.0);
-    for (int p = 0; p < fine_count; ++p)
-      for (int &parent : up[p]) {
-        if (parent < 0) break;
-        parent = position[parent];
-        splat[L][2 * size_t(parent)] += parent_weight[L][p] * splat[L - 1][2 * size_t(p)];
-        splat[L][2 * size_t(parent) + 1] += parent_weight[L][p] * splat[L - 1][2 * size_t(p) + 1];
-      }
+// Level L's nodes (the coarse parents of level L − 1's), their parents and weights in the pyramid,
+// and level L − 1's (sum, weight) pairs `fine_splat` restricted to them.
+inline std::vector<double> restrictToLevel(int L, LatticePyramid &pyramid,
+                                           const std::vector<double> &fine_splat, bool parallel) {
+  const SparseLattice &fine = pyramid.lattice[L - 1];
+  SparseLattice &coarse = pyramid.lattice[L];
+  const int fine_count = fine.size();
+  auto &up = pyramid.parents[L];
+  std::vector<double> &weight = pyramid.parent_weight[L];
+  up.assign(fine_count, {-1, -1, -1, -1, -1, -1, -1, -1});
+  weight.resize(fine_count);
+  KeyIndex nodes(size_t(fine_count) / 4 + 16);
+  for (int p = 0; p < fine_count; ++p) {
+    const std::uint64_t key = fine.key[p];
+    const std::uint64_t i = key % fine.nx, j = (key / fine.nx) % fine.ny,
+                        l = key / (fine.nx * fine.ny);
+    const std::uint64_t ci[2] = {i / 2, (i + 1) / 2}, cj[2] = {j / 2, (j + 1) / 2},
+                        cl[2] = {l / 2, (l + 1) / 2};
+    const int ni = 1 + int(i & 1), nj = 1 + int(j & 1), nl = 1 + int(l & 1);
+    weight[p] = 1.0 / (ni * nj * nl);
+    int count = 0;
+    for (int c = 0; c < nl; ++c)
+      for (int b = 0; b < nj; ++b)
+        for (int a = 0; a < ni; ++a)
+          up[p][count++] = nodes.insert((cl[c] * coarse.ny + cj[b]) * coarse.nx + ci[a]);
   }
+  const std::vector<int> position = coarse.assign(nodes.keys(), parallel);
+  std::vector<double> splat(2 * size_t(coarse.size()), 0.0);
+  for (int p = 0; p < fine_count; ++p)
+    for (int &parent : up[p]) {
+      if (parent < 0) break;
+      parent = position[parent];
+      splat[2 * size_t(parent)] += weight[p] * fine_splat[2 * size_t(p)];
+      splat[2 * size_t(parent) + 1] += weight[p] * fine_splat[2 * size_t(p) + 1];
+    }
+  return splat;
+}
 
-  // Convolve each lattice with its σ; interpolate the results from coarse to fine. result[L] holds,
-  // per node of lattice L, the (sum, weight) pairs of the σ on levels ≥ L, finest level first.
-  std::vector<int> first_slot(levels + 1, 0); // slots of level L: [first_slot[L], first_slot[L+1])
-  std::vector<int> slot_sigma;
+// The σ in slot order (level by level, finest first; within a level in `sigmas`' order):
+// slot_sigma[slot] is a σ's index, first_slot[L] … first_slot[L + 1] − 1 the slots of level L.
+inline void sigmaSlots(const std::vector<int> &level, int levels, std::vector<int> &slot_sigma,
+                       std::vector<int> &first_slot) {
+  const int S = int(level.size());
+  first_slot.assign(levels + 1, 0);
+  slot_sigma.clear();
   for (int L = 0; L < levels; ++L) {
     first_slot[L] = int(slot_sigma.size());
     for (int s = 0; s < S; ++s)
       if (level[s] == L) slot_sigma.push_back(s);
   }
   first_slot[levels] = S;
-  // All lattices of the chain convolved in one parallel region.
+}
+
+// Each level's splat convolved with its own σ (all levels in one parallel region): own[L] holds,
+// per node of level L, a (sum, weight) pair per slot of L.
+inline std::vector<std::vector<double>>
+convolveLevels(const LatticePyramid &pyramid, const std::vector<std::vector<double>> &splat,
+               const std::vector<double> &sigmas, const std::vector<int> &slot_sigma,
+               const std::vector<int> &first_slot, const LatticeOptions &options, bool parallel) {
+  const int levels = pyramid.levels();
   std::vector<std::vector<double>> own(levels);
   std::vector<LatticeKernel> kernels(levels);
   for (int L = 0; L < levels; ++L) {
@@ -473,29 +517,38 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
     for (int slot = first_slot[L]; slot < first_slot[L + 1]; ++slot)
       level_sigmas.push_back(sigmas[slot_sigma[slot]]);
     if (level_sigmas.empty()) continue;
-    kernels[L] = latticeKernel(lattice[L].h, level_sigmas, options.variance_correction);
-    own[L].assign(size_t(lattice[L].size()) * 2 * level_sigmas.size(), 0.0);
+    kernels[L] = latticeKernel(pyramid.lattice[L].h, level_sigmas, options.variance_correction);
+    own[L].assign(size_t(pyramid.lattice[L].size()) * 2 * level_sigmas.size(), 0.0);
   }
   std::vector<DenseRuns> dense(levels);
   for (int L = 0; L < levels; ++L)
-    if (kernels[L].S > 0) dense[L] = denseRuns(lattice[L], splat[L], kernels[L].R);
-#pragma omp parallel if (parallel && m >= min_parallel_vertices)
+    if (kernels[L].S > 0) dense[L] = denseRuns(pyramid.lattice[L], splat[L], kernels[L].R);
+#pragma omp parallel if (parallel)
   for (int L = 0; L < levels; ++L)
-    if (kernels[L].S > 0) convolveLatticeRows(lattice[L], kernels[L], dense[L], own[L]);
-  std::vector<DenseRuns>().swap(dense);
+    if (kernels[L].S > 0) convolveLatticeRows(pyramid.lattice[L], kernels[L], dense[L], own[L]);
+  return own;
+}
+
+// The levels' convolutions interpolated from coarse to fine: per node of the finest lattice, the
+// (sum, weight) pair of every slot. Each level's own pairs, then the coarser levels' trilinearly
+// interpolated at its nodes (`own`, the splats and the pyramid's parents are freed on the way).
+inline std::vector<double> prolongToFinest(LatticePyramid &pyramid,
+                                           std::vector<std::vector<double>> &own,
+                                           std::vector<std::vector<double>> &splat,
+                                           const std::vector<int> &first_slot) {
+  const int levels = pyramid.levels(), S = first_slot[levels];
   std::vector<double> coarser;
   for (int L = levels - 1; L >= 0; --L) {
     const int own_count = first_slot[L + 1] - first_slot[L], below = S - first_slot[L + 1];
     std::vector<double>().swap(splat[L]);
-    const int width = 2 * (own_count + below), n = lattice[L].size();
+    const int width = 2 * (own_count + below), n = pyramid.lattice[L].size();
     std::vector<double> result(size_t(n) * width, 0.0);
     for (int p = 0; p < n; ++p) {
       double *r = &result[size_t(p) * width];
       for (int q = 0; q < 2 * own_count; ++q) r[q] = own[L][size_t(p) * 2 * own_count + q];
       if (below == 0) continue;
-      // Trilinear interpolation of the coarser lattice at this node.
-      const double w = parent_weight[L + 1][p];
-      for (int parent : parents[L + 1][p]) {
+      const double w = pyramid.parent_weight[L + 1][p];
+      for (int parent : pyramid.parents[L + 1][p]) {
         if (parent < 0) break;
         const double *c = &coarser[size_t(parent) * 2 * below];
         for (int q = 0; q < 2 * below; ++q) r[2 * own_count + q] += w * c[q];
@@ -504,23 +557,33 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
     coarser.swap(result);
     std::vector<double>().swap(own[L]);
     if (L + 1 < levels) {
-      std::vector<std::array<int, 8>>().swap(parents[L + 1]);
-      std::vector<double>().swap(parent_weight[L + 1]);
+      std::vector<std::array<int, 8>>().swap(pyramid.parents[L + 1]);
+      std::vector<double>().swap(pyramid.parent_weight[L + 1]);
     }
   }
+  return coarser;
+}
 
-  // Slice (parallel over cells: a cell's vertices share its corners).
+// Slice: each point's means, trilinear in the (sum, weight) pairs of its cell's corners
+// (`finest`: per finest node, a pair per slot); parallel over cells (a cell's points share its
+// corners).
+inline void sliceAtPoints(const std::vector<WeightedPoint> &points, const PointCells &cells,
+                          const LatticePyramid &pyramid, const std::vector<double> &finest,
+                          const std::vector<int> &slot_sigma, bool parallel,
+                          std::vector<std::vector<double>> &means) {
+  const int m = int(points.size()), S = int(slot_sigma.size()), cell_count = cells.size();
+  const double h = pyramid.lattice[0].h;
   for (int s = 0; s < S; ++s) means[s].resize(m);
 #pragma omp parallel for schedule(dynamic, 256) if (parallel && m >= min_parallel_vertices)
   for (int c = 0; c < cell_count; ++c) {
-    for (int i = cell_start[c]; i < cell_start[c + 1]; ++i) {
-      const int a = cell_vertices[i];
+    for (int i = cells.start[c]; i < cells.start[c + 1]; ++i) {
+      const int a = cells.point[i];
       double w[8];
-      trilinear(points[a].position(), w);
+      trilinearWeights(points[a].position(), pyramid.origin, h, w);
       for (int slot = 0; slot < S; ++slot) {
         double sum_at = 0, weight_at = 0;
         for (int corner = 0; corner < 8; ++corner) {
-          const double *r = &coarser[size_t(corners[c][corner]) * 2 * S + 2 * slot];
+          const double *r = &finest[size_t(cells.corners[c][corner]) * 2 * S + 2 * slot];
           sum_at += w[corner] * r[0];
           weight_at += w[corner] * r[1];
         }
@@ -528,6 +591,33 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
       }
     }
   }
+}
+
+// G at every σ of `sigmas` (a chain σ₀, 2σ₀, 4σ₀, … when options.chains_only) at every point:
+// means[s][a] for point a. Points near in space should be near in the array (cache).
+// Splat onto the finest lattice, restrict to the coarser ones, convolve each with its σ,
+// interpolate back to the finest and slice at the points.
+inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
+                                      const std::vector<double> &sigmas,
+                                      const LatticeOptions &options,
+                                      std::vector<std::vector<double>> &means,
+                                      bool parallel = true) {
+  const int m = int(points.size());
+  if (m == 0 || sigmas.empty()) return;
+  double base_h;
+  std::vector<int> level;
+  const int levels = sigmaLevels(sigmas, std::max(1, options.nodes_per_sigma), base_h, level);
+  LatticePyramid pyramid = emptyPyramid(points, base_h, levels);
+  const PointCells cells = bucketIntoCells(points, pyramid, parallel);
+  std::vector<std::vector<double>> splat(levels);
+  splat[0] = splatPoints(points, cells, pyramid, parallel);
+  for (int L = 1; L < levels; ++L) splat[L] = restrictToLevel(L, pyramid, splat[L - 1], parallel);
+  std::vector<int> slot_sigma, first_slot;
+  sigmaSlots(level, levels, slot_sigma, first_slot);
+  std::vector<std::vector<double>> own = convolveLevels(
+      pyramid, splat, sigmas, slot_sigma, first_slot, options, parallel && m >= min_parallel_vertices);
+  const std::vector<double> finest = prolongToFinest(pyramid, own, splat, first_slot);
+  sliceAtPoints(points, cells, pyramid, finest, slot_sigma, parallel, means);
 }
 
 // G at every σ of `sigmas` for the vertices `active`: means[s][v] (other entries untouched).

@@ -1,6 +1,7 @@
 // The lattice evaluation of saliency's Gaussian means (vcg_ext/saliency_lattice.h) against the
 // exact sums, and the fast saliency against the exact one on a mesh large enough to use it.
 #include <gtest/gtest.h>
+#include <random>
 #include <omp.h>
 #include <support/analytic_meshes.h>
 #include <vcg_ext/curvature.h>
@@ -200,4 +201,62 @@ TEST(SaliencyLattice, FastSaliencyIsCloseToTheExactOneOnALargeNoisyMesh) {
   EXPECT_LT(mean, 0.02);
   EXPECT_LT(worst, 0.15);
   std::printf("fast vs exact saliency: mean |difference| %.4f, max %.4f\n", mean, worst);
+}
+
+// latticeGaussianMeansChain's stages one by one.
+TEST(SaliencyLatticeStages, SigmasGoToTheLevelWhoseSpacingTheyHoldKToTwoKTimes) {
+  double base_h = 0;
+  std::vector<int> level;
+  EXPECT_EQ(detail::sigmaLevels({1, 2, 4}, 2, base_h, level), 3);
+  EXPECT_EQ(base_h, 0.5);
+  EXPECT_EQ(level, (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(detail::sigmaLevels({5, 3, 12}, 2, base_h, level), 3);
+  EXPECT_EQ(base_h, 1.5);
+  EXPECT_EQ(level, (std::vector<int>{0, 0, 2})); // 5/3 < 2; 12/3 = 4
+  std::vector<int> slot_sigma, first_slot;
+  detail::sigmaSlots(level, 3, slot_sigma, first_slot);
+  EXPECT_EQ(slot_sigma, (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(first_slot, (std::vector<int>{0, 2, 2, 3})); // level 1 holds none
+  detail::sigmaSlots({1, 0, 1}, 2, slot_sigma, first_slot);
+  EXPECT_EQ(slot_sigma, (std::vector<int>{1, 0, 2}));
+  EXPECT_EQ(first_slot, (std::vector<int>{0, 1, 3}));
+}
+
+TEST(SaliencyLatticeStages, TrilinearWeightsSumToOneAndSitOnANode) {
+  double w[8];
+  detail::trilinearWeights(Vec3(0.25, 0.5, 0.75), Vec3::Zero(), 1.0, w);
+  EXPECT_DOUBLE_EQ(w[0], 0.75 * 0.5 * 0.25);
+  EXPECT_DOUBLE_EQ(w[7], 0.25 * 0.5 * 0.75);
+  double sum = 0;
+  for (double x : w) sum += x;
+  EXPECT_NEAR(sum, 1.0, 1e-15);
+  detail::trilinearWeights(Vec3(2, 4, 6), Vec3::Zero(), 2.0, w); // on node (1, 2, 3)
+  EXPECT_EQ(w[0], 1.0);
+  for (int corner = 1; corner < 8; ++corner) EXPECT_EQ(w[corner], 0.0);
+}
+
+TEST(SaliencyLatticeStages, SplatAndRestrictionKeepTheTotalWeightAndSum) {
+  std::vector<detail::WeightedPoint> points;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 3);
+  double value_sum = 0;
+  for (int a = 0; a < 500; ++a) {
+    points.push_back({u(rng), u(rng), 0.1 * u(rng), u(rng)});
+    value_sum += points.back().value;
+  }
+  detail::LatticePyramid pyramid = detail::emptyPyramid(points, 0.25, 3);
+  const detail::PointCells cells = detail::bucketIntoCells(points, pyramid, true);
+  EXPECT_EQ(cells.start.back(), 500);
+  std::vector<std::vector<double>> splat(3);
+  splat[0] = detail::splatPoints(points, cells, pyramid, true);
+  for (int L = 1; L < 3; ++L) splat[L] = detail::restrictToLevel(L, pyramid, splat[L - 1], true);
+  for (int L = 0; L < 3; ++L) {
+    double sum = 0, weight = 0;
+    for (size_t p = 0; p < splat[L].size(); p += 2) sum += splat[L][p], weight += splat[L][p + 1];
+    EXPECT_NEAR(weight, 500.0, 1e-9) << L;
+    EXPECT_NEAR(sum, value_sum, 1e-9) << L;
+    EXPECT_EQ(pyramid.lattice[L].h, 0.25 * (1 << L));
+  }
+  EXPECT_LT(pyramid.lattice[2].size(), pyramid.lattice[1].size());
+  EXPECT_LT(pyramid.lattice[1].size(), pyramid.lattice[0].size());
 }
