@@ -194,7 +194,120 @@ inline Vec3 placeVertex(int i, const MeshArrays &mesh, const Rings &rings,
   return moved;
 }
 
-// Smooths `mesh` and writes the result to `out_points`; see the header comment.
+namespace detail {
+
+// What the report says of the set-up: scale, closedness, and the vertices that may not move and
+// why (non-manifold, isolated, otherwise degenerate).
+inline void reportPaperSetup(const DriverSetup &setup, SmoothReport &report) {
+  const Rings &rings = setup.rings;
+  report.mean_edge_length = setup.stats.mean_edge_length;
+  report.bbox_diagonal = setup.stats.bbox_diagonal;
+  report.closed = setup.closed;
+  for (int v = 0; v < rings.vertex_count; ++v) {
+    report.frozen_vertices += setup.roles.frozen[v];
+    if (rings.nonmanifold[v]) ++report.nonmanifold_vertices;
+    else if (rings.isolated[v]) ++report.isolated_vertices;
+    else if (setup.roles.frozen[v]) ++report.degenerate_vertices;
+  }
+  report.volume_before = setup.volume_before;
+}
+
+inline void addCounters(const Counters &c, SmoothReport &report) {
+  report.fold_fallbacks += c.fold_fallbacks;
+  report.fold_skips += c.fold_skips;
+  report.fit_failures += c.fit_failures;
+  report.newton_failures += c.newton_failures;
+  report.rejected_moves += c.rejected;
+}
+
+// One Jacobi sweep of placeVertex over the movable vertices (the boundary rule applied), from
+// `current` into `next`, the α each placement used into `alpha`; in blocks of 2^16 vertices, after
+// each of which `block_done(stop)` may cancel the sweep (returns false). Counts go to `report`.
+template <class BlockDone>
+bool paperVertexSweep(const MeshArrays &mesh, const DriverSetup &setup,
+                      const std::vector<Vec3> &current, const SurfaceAnalysis &analysis,
+                      const SmoothParams &params, std::vector<double> &alpha,
+                      std::vector<Vec3> &next, SmoothReport &report, BlockDone block_done) {
+  const Rings &rings = setup.rings;
+  const int n = int(current.size());
+  double max_saliency = 0;
+  for (double s : analysis.saliency) max_saliency = std::max(max_saliency, s);
+  Counters counters;
+  const int block = 1 << 16; // progress and cancel between blocks of vertices
+  bool finished = true;
+  for (int start = 0; start < n && finished; start += block) {
+    const int stop = std::min(n, start + block);
+    long fold_fallbacks = 0, fold_skips = 0, fit_failures = 0, newton_failures = 0, rejected = 0;
+#pragma omp parallel reduction(+ : fold_fallbacks, fold_skips, fit_failures, newton_failures, rejected) \
+    if (n >= min_parallel_vertices)
+    {
+      NeighbourhoodScratch scratch;
+      scratch.reserve(64);
+      Counters local;
+#pragma omp for schedule(dynamic, 512)
+      for (int i = start; i < stop; ++i) {
+        next[i] = current[i];
+        if (setup.fixed[i]) continue;
+        Vec3 moved = placeVertex(i, mesh, rings, current, analysis, params,
+                                 setup.stats.mean_edge_length, max_saliency, scratch, alpha[i],
+                                 local);
+        if (rings.boundary[i])
+          moved = constrainBoundaryMove(i, moved, current, analysis.curvature.normal, setup.roles,
+                                        params.boundary);
+        next[i] = moved;
+      }
+      fold_fallbacks += local.fold_fallbacks;
+      fold_skips += local.fold_skips;
+      fit_failures += local.fit_failures;
+      newton_failures += local.newton_failures;
+      rejected += local.rejected;
+    }
+    counters.fold_fallbacks += fold_fallbacks;
+    counters.fold_skips += fold_skips;
+    counters.fit_failures += fit_failures;
+    counters.newton_failures += newton_failures;
+    counters.rejected += rejected;
+    finished = block_done(stop);
+  }
+  if (finished) addCounters(counters, report);
+  return finished;
+}
+
+// The result's quantities, as the other methods describe theirs (Lee et al.'s saliency of the
+// mean curvature, surface_analysis.h), with the α of the last iteration's placements; its volume.
+inline void describePaperResult(const MeshArrays &mesh, const Rings &rings,
+                                const std::vector<Vec3> &result, double saliency_scale,
+                                const SmoothParams &params, SurfaceAnalysis &analysis,
+                                std::vector<double> &alpha, VertexQuantities &quantities,
+                                SmoothReport &report) {
+  using clock = std::chrono::steady_clock;
+  auto t = clock::now();
+  computeCurvature(result, mesh.faces, rings, analysis.curvature);
+  report.seconds_curvature += std::chrono::duration<double>(clock::now() - t).count();
+  t = clock::now();
+  computeSaliency(result, rings, analysis.curvature.mean, saliency_scale, analysis.saliency,
+                  params.saliency);
+  report.seconds_saliency += std::chrono::duration<double>(clock::now() - t).count();
+  const int n = int(result.size());
+  quantities.saliency = std::move(analysis.saliency);
+  quantities.k1 = std::move(analysis.curvature.k1);
+  quantities.k2 = std::move(analysis.curvature.k2);
+  quantities.mean = std::move(analysis.curvature.mean);
+  quantities.gauss = std::move(analysis.curvature.gauss);
+  quantities.alpha = std::move(alpha);
+  quantities.displacement.assign(n, 0.0);
+  for (int i = 0; i < n; ++i) {
+    quantities.displacement[i] = (result[i] - mesh.points[i]).norm();
+    report.vertices_moved += quantities.displacement[i] > 0;
+  }
+  report.volume_after = signedVolume(result, mesh.faces);
+}
+
+} // namespace detail
+
+// Smooths `mesh` and writes the result to `out_points`; see the header comment. Each iteration:
+// curvature (and the saliency where the placement or the α rule reads it), one placement sweep,
+// the volume restored on a closed mesh.
 inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &params,
                                std::vector<Vec3> &out_points, VertexQuantities &quantities,
                                const ProgressFn &progress = nullptr) {
@@ -209,29 +322,22 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
       detail::driverSetup(mesh, params.selected_only, params.boundary, /*with_face_rings=*/false,
                           /*with_two_rings=*/true);
   Rings &rings = setup.rings;
-  const EdgeStatistics &stats = setup.stats;
-  const detail::VertexRoles &roles = setup.roles;
   report.seconds_topology = seconds(t0);
-  report.mean_edge_length = stats.mean_edge_length;
-  report.bbox_diagonal = stats.bbox_diagonal;
-  report.closed = setup.closed;
-  for (int v = 0; v < n; ++v) {
-    report.frozen_vertices += roles.frozen[v];
-    if (rings.nonmanifold[v]) ++report.nonmanifold_vertices;
-    else if (rings.isolated[v]) ++report.isolated_vertices;
-    else if (roles.frozen[v]) ++report.degenerate_vertices;
-  }
-  report.volume_before = setup.volume_before;
-  auto movable = [&](int i) { return !setup.fixed[i]; };
+  detail::reportPaperSetup(setup, report);
 
   std::vector<Vec3> current = mesh.points, next = mesh.points;
   std::vector<double> alpha(n, 1.0);
   std::vector<Vec3> normals_scratch;
-  std::vector<std::uint8_t> movable_scratch(n, 0);
+  std::vector<std::uint8_t> movable(n, 0);
+  for (int i = 0; i < n; ++i) movable[i] = !setup.fixed[i];
   SurfaceAnalysis analysis;
-  const double saliency_scale = params.saliency_scale * stats.bbox_diagonal;
+  const double saliency_scale = params.saliency_scale * setup.stats.bbox_diagonal;
   const int iterations = std::max(0, params.iterations);
+  // Saliency steers only the paper's placement and its alpha rule; principal curvatures and
+  // directions the same and the saliency. The other placements need the vertex normals alone
+  // inside the iterations (saliency is the costliest stage) and describe the result once.
   const bool needs_saliency = params.placement == PlacementMode::Paper || !params.alpha_override;
+  const bool needs_curvature = needs_saliency || params.placement == PlacementMode::Paper;
   if (!needs_saliency) analysis.saliency.assign(n, 0.0);
   auto report_progress = [&](int iteration, double fraction, const char *stage) {
     if (!progress) return true;
@@ -239,9 +345,6 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
     return progress(std::min(percent, 99), stage);
   };
 
-  // Principal curvatures and directions steer only the paper's placement and, through the saliency,
-  // its alpha rule; the other modes need the vertex normals alone inside the iterations.
-  const bool needs_curvature = needs_saliency || params.placement == PlacementMode::Paper;
   for (int it = 0; it < iterations; ++it) {
     auto t = clock::now();
     if (needs_curvature)
@@ -250,8 +353,6 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
       computeVertexNormals(current, mesh.faces, rings, analysis.curvature.normal);
     report.seconds_curvature += seconds(t);
     if (!report_progress(it, 0.1, "Curvature")) return report.cancelled = true, report;
-    // Saliency steers only the paper's alpha rule and the uniform-curvature weights; the other
-    // modes skip it inside the iterations (it is the costliest stage) and describe the result once.
     if (needs_saliency) {
       t = clock::now();
       // The paper's curvature map: "negative minima of principal curvatures", i.e. k2.
@@ -260,89 +361,29 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
       report.seconds_saliency += seconds(t);
       if (!report_progress(it, 0.3, "Saliency")) return report.cancelled = true, report;
     }
-
     t = clock::now();
-    double max_saliency = 0;
-    for (double s : analysis.saliency) max_saliency = std::max(max_saliency, s);
-    detail::Counters counters;
-    const int block = 1 << 16; // progress and cancel between blocks of vertices
-    for (int start = 0; start < n; start += block) {
-      const int stop = std::min(n, start + block);
-      long fold_fallbacks = 0, fold_skips = 0, fit_failures = 0, newton_failures = 0, rejected = 0;
-#pragma omp parallel reduction(+ : fold_fallbacks, fold_skips, fit_failures, newton_failures, rejected) \
-    if (n >= min_parallel_vertices)
-      {
-        NeighbourhoodScratch scratch;
-        scratch.reserve(64);
-        detail::Counters local;
-#pragma omp for schedule(dynamic, 512)
-        for (int i = start; i < stop; ++i) {
-          next[i] = current[i];
-          if (!movable(i)) continue;
-          Vec3 moved = placeVertex(i, mesh, rings, current, analysis, params,
-                                   stats.mean_edge_length, max_saliency, scratch, alpha[i], local);
-          if (rings.boundary[i])
-            moved = detail::constrainBoundaryMove(i, moved, current, analysis.curvature.normal,
-                                                  roles, params.boundary);
-          next[i] = moved;
-        }
-        fold_fallbacks += local.fold_fallbacks;
-        fold_skips += local.fold_skips;
-        fit_failures += local.fit_failures;
-        newton_failures += local.newton_failures;
-        rejected += local.rejected;
-      }
-      counters.fold_fallbacks += fold_fallbacks;
-      counters.fold_skips += fold_skips;
-      counters.fit_failures += fit_failures;
-      counters.newton_failures += newton_failures;
-      counters.rejected += rejected;
-      if (!report_progress(it, 0.3 + 0.7 * stop / n, "Fitting patches"))
-        return report.cancelled = true, report;
-    }
+    if (!detail::paperVertexSweep(mesh, setup, current, analysis, params, alpha, next, report,
+                                  [&](int stop) {
+                                    return report_progress(it, 0.3 + 0.7 * stop / n,
+                                                           "Fitting patches");
+                                  }))
+      return report.cancelled = true, report;
     report.seconds_fit += seconds(t);
-    report.fold_fallbacks += counters.fold_fallbacks;
-    report.fold_skips += counters.fold_skips;
-    report.fit_failures += counters.fit_failures;
-    report.newton_failures += counters.newton_failures;
-    report.rejected_moves += counters.rejected;
-    if (params.preserve_volume && report.closed) {
-      for (int i = 0; i < n; ++i) movable_scratch[i] = movable(i);
-      detail::restoreVolume(next, mesh.faces, rings, movable_scratch, report.volume_before,
-                            stats.mean_edge_length, normals_scratch);
-    }
+    if (params.preserve_volume && report.closed)
+      detail::restoreVolume(next, mesh.faces, rings, movable, report.volume_before,
+                            setup.stats.mean_edge_length, normals_scratch);
     current.swap(next);
     report.iterations_done = it + 1;
   }
 
-  // The quantities describe the result: analyse it once more (cheap next to the iterations).
   // The analysis needs neither the 2-rings nor the iteration buffers; freeing them first keeps
   // them out of the run's peak memory, which the saliency's lattices set.
   std::vector<int>().swap(rings.ring2);
   std::vector<int>().swap(rings.ring2_offsets);
   std::vector<Vec3>().swap(next);
   std::vector<Vec3>().swap(normals_scratch);
-  auto t = clock::now();
-  computeCurvature(current, mesh.faces, rings, analysis.curvature);
-  report.seconds_curvature += seconds(t);
-  t = clock::now();
-  // The result is described like the other methods' (Lee et al.'s saliency, surface_analysis.h).
-  computeSaliency(current, rings, analysis.curvature.mean, saliency_scale, analysis.saliency,
-                  params.saliency);
-  report.seconds_saliency += seconds(t);
-
-  quantities.saliency = std::move(analysis.saliency);
-  quantities.k1 = std::move(analysis.curvature.k1);
-  quantities.k2 = std::move(analysis.curvature.k2);
-  quantities.mean = std::move(analysis.curvature.mean);
-  quantities.gauss = std::move(analysis.curvature.gauss);
-  quantities.alpha = std::move(alpha);
-  quantities.displacement.assign(n, 0.0);
-  for (int i = 0; i < n; ++i) {
-    quantities.displacement[i] = (current[i] - mesh.points[i]).norm();
-    report.vertices_moved += quantities.displacement[i] > 0;
-  }
-  report.volume_after = signedVolume(current, mesh.faces);
+  detail::describePaperResult(mesh, rings, current, saliency_scale, params, analysis, alpha,
+                              quantities, report);
   out_points.swap(current);
   return report;
 }

@@ -204,3 +204,46 @@ TEST(Smooth, RefusesEmptyPointCloudAndNonFiniteInput) {
   EXPECT_NE(validateForSmoothing(nan).find("NaN"), std::string::npos);
   EXPECT_EQ(validateForSmoothing(test_meshes::icosphere(1.0, 1)), "");
 }
+
+// smoothMesh's stages: the set-up's report, the placement sweep and its cancel, the result's
+// description.
+TEST(PaperStages, SetUpReportCountsWhyVerticesCannotMove) {
+  MeshArrays m = test_meshes::heightField(6, 0, 1, 0, 1, [](double, double) { return 0.0; });
+  const int n = int(m.points.size());
+  m.points.push_back(Vec3(5, 5, 5));     // isolated
+  m.points.push_back(Vec3(0.5, 0.5, 1)); // a second fan at vertex 14: non-manifold
+  m.points.push_back(Vec3(0.6, 0.5, 1));
+  m.faces.push_back({14, n + 1, n + 2});
+  const detail::DriverSetup setup = detail::driverSetup(m, false, BoundaryMode::Paper, false, true);
+  SmoothReport report;
+  detail::reportPaperSetup(setup, report);
+  EXPECT_EQ(report.isolated_vertices, 1);
+  EXPECT_EQ(report.nonmanifold_vertices, 1);
+  EXPECT_EQ(report.frozen_vertices, 2);
+  EXPECT_FALSE(report.closed);
+  EXPECT_NEAR(report.mean_edge_length, meanEdge(m), 1e-12);
+}
+
+TEST(PaperStages, SweepMovesOnlyMovableVerticesAndStopsWhenABlockSaysSo) {
+  MeshArrays noisy = test_meshes::icosphere(1.0, 3);
+  test_meshes::addNoise(noisy, 0.02, 23);
+  noisy.selected.assign(noisy.points.size(), 0);
+  noisy.selected[0] = 1;
+  const detail::DriverSetup setup =
+      detail::driverSetup(noisy, /*selected_only=*/true, BoundaryMode::Paper, false, true);
+  SurfaceAnalysis analysis;
+  computeVertexNormals(noisy.points, noisy.faces, setup.rings, analysis.curvature.normal);
+  analysis.saliency.assign(noisy.points.size(), 0.0);
+  const SmoothParams params; // the ring barycentre
+  std::vector<double> alpha(noisy.points.size(), 1.0);
+  std::vector<Vec3> next(noisy.points.size());
+  SmoothReport report;
+  std::vector<int> stops;
+  EXPECT_TRUE(detail::paperVertexSweep(noisy, setup, noisy.points, analysis, params, alpha, next,
+                                       report, [&](int stop) { return stops.push_back(stop), true; }));
+  EXPECT_EQ(stops, std::vector<int>{int(noisy.points.size())}); // one block of fewer than 65536
+  EXPECT_NE(next[0], noisy.points[0]);                           // the selected vertex moved
+  for (size_t v = 1; v < next.size(); ++v) EXPECT_EQ(next[v], noisy.points[v]);
+  EXPECT_FALSE(detail::paperVertexSweep(noisy, setup, noisy.points, analysis, params, alpha,
+                                        next, report, [](int) { return false; }));
+}
