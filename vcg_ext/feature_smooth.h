@@ -293,6 +293,102 @@ inline long featureVertexSweep(const std::vector<Vec3> &current, const DriverSet
   return sweepVertices(current, setup, params.boundary, in.vertex_normals, move, next);
 }
 
+// The passes' buffers. Each lives only while its stage runs, so that the normal filter's peak
+// (its weights) and the patch fits' do not add up with each other's.
+struct FeaturePassBuffers {
+  std::vector<Vec3> filtered, next, vertex_normals, centroid;
+  FacePatches patches;
+  std::vector<SymmetricMatrix3> tangent_projector;
+  std::vector<std::uint8_t> relax, relax_scratch, folded;
+  std::vector<double> vertex_alpha; // the α of the patch update's fits, for inspection
+  explicit FeaturePassBuffers(int n) : relax(n, 1), relax_scratch(n, 1) {}
+  // What the vertex updates alone read, before the next pass's filter.
+  void releaseVertexStage() {
+    std::vector<SymmetricMatrix3>().swap(tangent_projector);
+    std::vector<Vec3>().swap(next);
+    std::vector<Vec3>().swap(centroid);
+    std::vector<Vec3>().swap(vertex_normals);
+  }
+  // Everything but the α for inspection, before the result quantities.
+  void releaseAll() {
+    std::vector<Vec3>().swap(filtered);
+    std::vector<Vec3>().swap(next);
+    std::vector<Vec3>().swap(vertex_normals);
+    std::vector<Vec3>().swap(centroid);
+    patches = FacePatches();
+    std::vector<SymmetricMatrix3>().swap(tangent_projector);
+  }
+};
+
+// A pass's normal filter: the current face normals filtered into `b.filtered`. On the first pass
+// (`check` set) the filter stops at a checkpoint after counts.checkIterations (before any vertex
+// moves) for the automatic mode's check, which may decline (returns false), and for the planar
+// extra, which may raise the filter's and the vertex updates' counts; the filter then goes on
+// from there in the same guidance period.
+inline bool filterPassNormals(bool check, const MeshArrays &mesh, DriverSetup &setup,
+                              const FeatureSmoothParams &params, const FeaturePassCounts &counts,
+                              const FilteredNormalsCheck &first_pass_check,
+                              const std::vector<Vec3> &current, NormalFilterParams &normal_filter,
+                              int &vertex_iterations, FeaturePassBuffers &b,
+                              FeatureSmoothReport &report) {
+  computeFaceNormals(current, mesh.faces, b.filtered); // (the filter works in place)
+  const bool scale_by_flatness = params.planar_extra > 0;
+  const int check_iterations =
+      check && (first_pass_check || scale_by_flatness) ? counts.checkIterations(params) : 0;
+  bool declined = false;
+  auto checkpoint = [&](const std::vector<Vec3> &normals) {
+    if (first_pass_check && !first_pass_check(normals, current, report.prepass_pairs, setup)) {
+      declined = true;
+      return 0;
+    }
+    if (scale_by_flatness) {
+      // Edge by edge, as the planar extra passes were fitted (bench/SCANNER_METHOD.md); on a
+      // fine curved mesh this reads high, but the automatic choice sends those to the organic mode.
+      report.flat_share = sharpFeatureEvidence(normals, normals, setup.face_rings).flat_share;
+      addPlanarExtra(report.flat_share, params, normal_filter.iterations, vertex_iterations);
+      report.normal_iterations = normal_filter.iterations;
+      report.vertex_iterations = vertex_iterations;
+    }
+    return normal_filter.iterations;
+  };
+  filterNormalsInPlace(current, mesh.faces, setup.face_rings, normal_filter,
+                       setup.stats.mean_edge_length, b.filtered, check_iterations, checkpoint);
+  return !declined;
+}
+
+// One vertex update (featureVertexSweep) of `current`: onto the filtered face planes, or with
+// `use_patches` onto face patches fitted to the current positions (α by the override or by the
+// paper's saliency rule), with the boundary normals and the fold marks it needs.
+inline void featureVertexUpdate(bool use_patches, const MeshArrays &mesh, const DriverSetup &setup,
+                                const FeatureSmoothParams &params, std::vector<Vec3> &current,
+                                FeaturePassBuffers &b, FeatureSmoothReport &report) {
+  const Rings &rings = setup.rings;
+  const double edge = setup.stats.mean_edge_length;
+  if (use_patches) {
+    std::vector<Vec3>().swap(b.centroid);
+    const std::vector<double> face_alpha =
+        params.alpha_override ? std::vector<double>()
+                              : saliencyFaceAlpha(current, mesh.faces, setup,
+                                                  params.saliency_scale * setup.stats.bbox_diagonal);
+    report.plane_fallbacks += fitFacePatches(current, mesh.faces, setup.face_rings, b.filtered,
+                                             edge, params.patches, face_alpha, b.patches);
+    b.vertex_alpha = vertexAlphaOfPatches(rings, face_alpha, params.patches.alpha);
+  } else {
+    computeFaceCentroids(current, mesh.faces, b.centroid);
+  }
+  // Boundary moves keep off the inward direction, which needs the surface normal there.
+  if (report.boundary_vertices)
+    computeBoundaryVertexNormals(current, mesh.faces, rings, b.vertex_normals);
+  if (params.tangential > 0 && params.relax_rings >= 0)
+    markVerticesNearFolds(current, mesh.faces, b.filtered, rings, params.fold_cos,
+                          params.relax_rings, b.folded, b.relax, b.relax_scratch);
+  const FeatureMoveInputs inputs{b.filtered,          use_patches ? &b.patches : nullptr,
+                                 b.centroid,          b.tangent_projector,
+                                 b.relax,             b.vertex_normals};
+  report.rejected_moves += featureVertexSweep(current, setup, params, edge, inputs, b.next);
+  current.swap(b.next);
+}
+
 // The driver on `mesh` as given (featureSmoothMesh runs it in spatial order).
 inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
                                                 const FeatureSmoothParams &params,
@@ -345,50 +441,18 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   report.seconds_prepass = seconds(t);
   if (!report_progress(0, 0.05, "Taubin pre-pass")) return report.cancelled = true, report;
 
-  // Buffers live only while their stage runs, so that the normal filter's peak (its weights) and
-  // the patch fits' do not add up with each other's.
-  std::vector<Vec3> filtered, next, vertex_normals, centroid;
-  FacePatches patches;
-  std::vector<SymmetricMatrix3> tangent_projector;
-  std::vector<std::uint8_t> relax(n, 1), relax_scratch(n, 1), folded;
-  std::vector<double> vertex_alpha; // the α of the patch update's fits, for inspection
+  FeaturePassBuffers b(n);
   for (int pass = 0; pass < outer && edge > 0; ++pass) {
     t = clock::now();
-    std::vector<SymmetricMatrix3>().swap(tangent_projector);
-    std::vector<Vec3>().swap(next);
-    std::vector<Vec3>().swap(centroid);
-    std::vector<Vec3>().swap(vertex_normals);
-    // The filter starts from the face normals and works in place.
-    computeFaceNormals(current, mesh.faces, filtered);
-    // The first-pass check sees the normals after `check_iterations`, before any vertex moves;
-    // the filter then goes on from there in the same guidance period (a checkpoint of the filter).
-    const bool scale_by_flatness = params.planar_extra > 0;
-    const int check_iterations =
-        pass == 0 && (first_pass_check || scale_by_flatness) ? counts.checkIterations(params) : 0;
-    bool declined = false;
-    auto check = [&](const std::vector<Vec3> &normals) {
-      if (first_pass_check && !first_pass_check(normals, current, report.prepass_pairs, setup)) {
-        declined = true;
-        return 0;
-      }
-      if (scale_by_flatness) {
-        // Edge by edge, as the planar extra passes were fitted (bench/SCANNER_METHOD.md); on a
-        // fine curved mesh this reads high, but the automatic choice sends those to the organic mode.
-        report.flat_share = sharpFeatureEvidence(normals, normals, setup.face_rings).flat_share;
-        addPlanarExtra(report.flat_share, params, normal_filter.iterations, vertex_iterations);
-        report.normal_iterations = normal_filter.iterations;
-        report.vertex_iterations = vertex_iterations;
-      }
-      return normal_filter.iterations;
-    };
-    filterNormalsInPlace(current, mesh.faces, setup.face_rings, normal_filter, edge, filtered,
-                         check_iterations, check);
-    if (declined) {
+    b.releaseVertexStage();
+    if (!filterPassNormals(pass == 0, mesh, setup, params, counts, first_pass_check, current,
+                           normal_filter, vertex_iterations, b, report)) {
       report.seconds_normals += seconds(t);
       return report.declined = true, report;
     }
-    next.resize(n);
-    if (params.tangential > 0) featureTangentProjectors(rings, setup.fixed, filtered, tangent_projector);
+    b.next.resize(n);
+    if (params.tangential > 0)
+      featureTangentProjectors(rings, setup.fixed, b.filtered, b.tangent_projector);
     // After the last filtering nothing reads the faces' edge neighbours.
     if (pass == outer - 1) std::vector<std::array<int, 3>>().swap(setup.face_rings.edge_neighbours);
     report.seconds_normals += seconds(t);
@@ -399,29 +463,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
       // Patches refine the last pass only: measured, earlier passes gain little from them for
       // their cost (a fit per face is most of a pass's time).
       const bool use_patches = pass == outer - 1 && it >= vertex_iterations - params.patch_iterations;
-      if (use_patches) {
-        std::vector<Vec3>().swap(centroid);
-        const std::vector<double> face_alpha =
-            params.alpha_override ? std::vector<double>()
-                                  : saliencyFaceAlpha(current, mesh.faces, setup,
-                                                      params.saliency_scale * setup.stats.bbox_diagonal);
-        report.plane_fallbacks += fitFacePatches(current, mesh.faces, setup.face_rings, filtered,
-                                                 edge, params.patches, face_alpha, patches);
-        vertex_alpha = vertexAlphaOfPatches(rings, face_alpha, params.patches.alpha);
-      } else {
-        computeFaceCentroids(current, mesh.faces, centroid);
-      }
-      // Boundary moves keep off the inward direction, which needs the surface normal there.
-      if (report.boundary_vertices)
-        computeBoundaryVertexNormals(current, mesh.faces, rings, vertex_normals);
-      if (params.tangential > 0 && params.relax_rings >= 0)
-        markVerticesNearFolds(current, mesh.faces, filtered, rings, params.fold_cos,
-                              params.relax_rings, folded, relax, relax_scratch);
-      const FeatureMoveInputs inputs{filtered,          use_patches ? &patches : nullptr,
-                                     centroid,          tangent_projector,
-                                     relax,             vertex_normals};
-      report.rejected_moves += featureVertexSweep(current, setup, params, edge, inputs, next);
-      current.swap(next);
+      featureVertexUpdate(use_patches, mesh, setup, params, current, b, report);
       if (!report_progress(pass, 0.4 + 0.6 * (it + 1) / vertex_iterations, "Moving vertices"))
         return report.cancelled = true, report;
     }
@@ -430,19 +472,14 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   }
 
   if (params.preserve_volume && report.closed && vertex_iterations > 0 && edge > 0)
-    restoreInputVolume(current, setup, mesh.faces, vertex_normals);
+    restoreInputVolume(current, setup, mesh.faces, b.vertex_normals);
 
   // Only the result and the rings are read from here on: the result quantities' peak (saliency)
   // should not stack on the iterations' buffers.
-  std::vector<Vec3>().swap(filtered);
-  std::vector<Vec3>().swap(next);
-  std::vector<Vec3>().swap(vertex_normals);
-  std::vector<Vec3>().swap(centroid);
-  patches = FacePatches();
-  std::vector<SymmetricMatrix3>().swap(tangent_projector);
+  b.releaseAll();
   setup.face_rings = FaceRings();
   finishDriver(mesh, rings, params.saliency_scale * setup.stats.bbox_diagonal, current, out_points,
-               quantities, report, std::move(vertex_alpha));
+               quantities, report, std::move(b.vertex_alpha));
   return report;
 }
 

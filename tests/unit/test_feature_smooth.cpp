@@ -414,3 +414,69 @@ TEST(FeatureSmooth, AlphaAttributeShowsTheAlphaThePatchFitsUsed) {
   EXPECT_LT(mean, 0.2);
   EXPECT_NE(paper, plain);
 }
+
+TEST(FeatureSmoothStages, FilterPassStopsAtTheCheckpointOnlyWhenTheCheckDeclines) {
+  const MeshArrays clean = test_meshes::box(1.0, 0.8, 0.6, 8);
+  const MeshArrays noisy = test_meshes::withNormalNoise(clean, 0.3 * meanEdge(clean), 3);
+  detail::DriverSetup setup = detail::driverSetup(noisy, false);
+  detail::ensureFaceRings(noisy, setup); // (as the driver does)
+  FeatureSmoothParams params;
+  params.planar_extra = 0; // the counts stay as measured
+  const FeaturePassCounts counts = detail::featurePassCounts(noisy, params, setup);
+  ASSERT_GT(counts.normal_iterations, counts.checkIterations(params));
+  int calls = 0;
+  auto run = [&](bool check, bool accept) {
+    NormalFilterParams normal_filter = params.normals;
+    normal_filter.iterations = counts.normal_iterations;
+    int vertex_iterations = counts.vertex_iterations;
+    detail::FeaturePassBuffers b(int(noisy.points.size()));
+    FeatureSmoothReport report;
+    const FilteredNormalsCheck first_pass_check =
+        [&](const std::vector<Vec3> &normals, const std::vector<Vec3> &, int,
+            const detail::DriverSetup &) {
+          ++calls;
+          EXPECT_EQ(normals.size(), noisy.faces.size());
+          return accept;
+        };
+    const bool went_on = detail::filterPassNormals(check, noisy, setup, params, counts,
+                                                   first_pass_check, noisy.points, normal_filter,
+                                                   vertex_iterations, b, report);
+    return std::make_pair(went_on, b.filtered);
+  };
+  const auto [declined, declined_normals] = run(true, false);
+  EXPECT_FALSE(declined);
+  EXPECT_EQ(calls, 1);
+  const auto [accepted, filtered] = run(true, true);
+  const auto [unchecked, unchecked_normals] = run(false, false); // a later pass: no check
+  EXPECT_TRUE(accepted);
+  EXPECT_TRUE(unchecked);
+  EXPECT_EQ(calls, 2);
+  // The checkpoint does not change the filtered normals.
+  EXPECT_EQ(filtered, unchecked_normals);
+  ASSERT_EQ(filtered.size(), noisy.faces.size());
+  for (const Vec3 &n : filtered) EXPECT_NEAR(n.norm(), 1.0, 1e-6);
+}
+
+TEST(FeatureSmoothStages, VertexUpdateOntoPlanesOrPatchesAndThePatchesAlpha) {
+  const MeshArrays clean = test_meshes::box(1.0, 0.8, 0.6, 8);
+  const MeshArrays noisy = test_meshes::withNormalNoise(clean, 0.3 * meanEdge(clean), 3);
+  detail::DriverSetup setup = detail::driverSetup(noisy, false);
+  detail::ensureFaceRings(noisy, setup); // (as the driver does)
+  FeatureSmoothParams params;
+  params.patches.alpha = 0.8;
+  const int n = int(noisy.points.size());
+  for (bool use_patches : {false, true}) {
+    detail::FeaturePassBuffers b(n);
+    computeFaceNormals(noisy.points, noisy.faces, b.filtered);
+    b.next.resize(n);
+    detail::featureTangentProjectors(setup.rings, setup.fixed, b.filtered, b.tangent_projector);
+    std::vector<Vec3> current = noisy.points;
+    FeatureSmoothReport report;
+    detail::featureVertexUpdate(use_patches, noisy, setup, params, current, b, report);
+    EXPECT_NE(current, noisy.points);
+    EXPECT_EQ(b.next, noisy.points); // the positions before, swapped out
+    EXPECT_EQ(b.vertex_alpha, use_patches ? std::vector<double>(n, 0.8) : std::vector<double>());
+    EXPECT_EQ(b.centroid.size(), use_patches ? 0u : noisy.faces.size());
+    EXPECT_EQ(b.patches.size(), use_patches ? noisy.faces.size() : 0u);
+  }
+}
