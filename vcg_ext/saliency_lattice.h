@@ -620,6 +620,53 @@ inline void latticeGaussianMeansChain(const std::vector<WeightedPoint> &points,
   sliceAtPoints(points, cells, pyramid, finest, slot_sigma, parallel, means);
 }
 
+// The vertices `active` in the order of cells of `cell` (at least; grown until there are at most
+// 4 cells per point): row-major cells, input order within a cell. The lattice passes then stream
+// through memory instead of jumping over the mesh (4× on a shuffled 416k-vertex mesh).
+inline std::vector<int> cellOrder(const std::vector<Vec3> &positions, const std::vector<int> &active,
+                                  double cell) {
+  const int m = int(active.size());
+  Vec3 lo = Vec3::Constant(INFINITY), hi = -lo;
+  for (int v : active) lo = lo.cwiseMin(positions[v]), hi = hi.cwiseMax(positions[v]);
+  Vec3 counts;
+  for (;;) {
+    counts = ((hi - lo) / cell).array().floor() + 1.0;
+    if (counts.prod() <= 4.0 * m + 4096) break;
+    cell *= 1.25;
+  }
+  const std::uint64_t nx = std::uint64_t(counts.x()), ny = std::uint64_t(counts.y());
+  std::vector<std::uint32_t> bucket(m);
+  std::vector<int> start(size_t(counts.prod()) + 1, 0);
+  for (int a = 0; a < m; ++a) {
+    const Vec3 g = (positions[active[a]] - lo) / cell;
+    bucket[a] = std::uint32_t((std::uint64_t(g.z()) * ny + std::uint64_t(g.y())) * nx +
+                              std::uint64_t(g.x()));
+    ++start[bucket[a] + 1];
+  }
+  for (size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+  std::vector<int> order(m);
+  for (int a = 0; a < m; ++a) order[start[bucket[a]]++] = active[a];
+  return order;
+}
+
+// The σ in chains: from the smallest σ not yet taken (in `sigmas`' order), every σ that is it
+// times a power of two. Each chain's indices into `sigmas`.
+inline std::vector<std::vector<int>> sigmaChains(const std::vector<double> &sigmas) {
+  const int S = int(sigmas.size());
+  std::vector<std::vector<int>> chains;
+  std::vector<int> done(S, 0);
+  for (int first = 0; first < S; ++first) {
+    if (done[first]) continue;
+    chains.emplace_back();
+    for (int s = 0; s < S; ++s) {
+      const double ratio = std::log2(sigmas[s] / sigmas[first]);
+      if (!done[s] && ratio > -1e-9 && std::abs(ratio - std::round(ratio)) < 1e-9)
+        chains.back().push_back(s), done[s] = 1;
+    }
+  }
+  return chains;
+}
+
 // G at every σ of `sigmas` for the vertices `active`: means[s][v] (other entries untouched).
 inline void latticeGaussianMeans(const std::vector<Vec3> &positions, const std::vector<int> &active,
                                  const std::vector<double> &values,
@@ -627,32 +674,9 @@ inline void latticeGaussianMeans(const std::vector<Vec3> &positions, const std::
                                  std::vector<std::vector<double>> &means) {
   const int m = int(active.size()), S = int(sigmas.size());
   if (m == 0 || S == 0) return;
-  // A compact copy of the points, bucketed by cells of 2σ_min (row-major; input order within a
-  // cell): every later pass then streams through memory instead of jumping over the mesh (4× on a
-  // shuffled 416k-vertex mesh).
-  std::vector<int> order(m);
-  {
-    Vec3 lo = Vec3::Constant(INFINITY), hi = -lo;
-    for (int v : active) lo = lo.cwiseMin(positions[v]), hi = hi.cwiseMax(positions[v]);
-    double cell = 2 * *std::min_element(sigmas.begin(), sigmas.end());
-    Vec3 counts;
-    for (;;) {
-      counts = ((hi - lo) / cell).array().floor() + 1.0;
-      if (counts.prod() <= 4.0 * m + 4096) break;
-      cell *= 1.25;
-    }
-    const std::uint64_t nx = std::uint64_t(counts.x()), ny = std::uint64_t(counts.y());
-    std::vector<std::uint32_t> bucket(m);
-    std::vector<int> start(size_t(counts.prod()) + 1, 0);
-    for (int a = 0; a < m; ++a) {
-      const Vec3 g = (positions[active[a]] - lo) / cell;
-      bucket[a] = std::uint32_t((std::uint64_t(g.z()) * ny + std::uint64_t(g.y())) * nx +
-                                std::uint64_t(g.x()));
-      ++start[bucket[a] + 1];
-    }
-    for (size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
-    for (int a = 0; a < m; ++a) order[start[bucket[a]]++] = active[a];
-  }
+  // A compact copy of the points, bucketed by cells of 2σ_min.
+  const std::vector<int> order =
+      cellOrder(positions, active, 2 * *std::min_element(sigmas.begin(), sigmas.end()));
   std::vector<WeightedPoint> points(m);
   for (int a = 0; a < m; ++a)
     points[a] = {positions[order[a]].x(), positions[order[a]].y(), positions[order[a]].z(),
@@ -662,18 +686,7 @@ inline void latticeGaussianMeans(const std::vector<Vec3> &positions, const std::
   if (!options.chains_only) {
     latticeGaussianMeansChain(points, sigmas, options, sorted_means);
   } else {
-    // The chains: from the smallest σ not yet taken, every σ that is it times a power of two.
-    std::vector<std::vector<int>> chains;
-    std::vector<int> done(S, 0);
-    for (int first = 0; first < S; ++first) {
-      if (done[first]) continue;
-      chains.emplace_back();
-      for (int s = 0; s < S; ++s) {
-        const double ratio = std::log2(sigmas[s] / sigmas[first]);
-        if (!done[s] && ratio > -1e-9 && std::abs(ratio - std::round(ratio)) < 1e-9)
-          chains.back().push_back(s), done[s] = 1;
-      }
-    }
+    const std::vector<std::vector<int>> chains = sigmaChains(sigmas);
     // With no more threads than chains, each thread takes whole chains (the first, on the finest
     // lattice, is the largest): a chain's serial steps (hashing its nodes, restricting them to the
     // coarser lattices) were about half its time at 100k vertices, with the other thread waiting.

@@ -260,3 +260,18 @@ TEST(SaliencyLatticeStages, SplatAndRestrictionKeepTheTotalWeightAndSum) {
   EXPECT_LT(pyramid.lattice[2].size(), pyramid.lattice[1].size());
   EXPECT_LT(pyramid.lattice[1].size(), pyramid.lattice[0].size());
 }
+
+TEST(SaliencyLatticeStages, SigmasFallIntoPowerOfTwoChains) {
+  // The saliency's eight σ (in ε): 2, 3, 4, 5, 6, 8, 10, 12.
+  const std::vector<std::vector<int>> chains =
+      detail::sigmaChains({2, 3, 4, 5, 6, 8, 10, 12});
+  EXPECT_EQ(chains, (std::vector<std::vector<int>>{{0, 2, 5}, {1, 4, 7}, {3, 6}}));
+}
+
+TEST(SaliencyLatticeStages, CellOrderIsAPermutationByCellsKeepingTheInputOrderWithinOne) {
+  const std::vector<Vec3> positions{Vec3(2.5, 0, 0), Vec3(0.1, 0, 0), Vec3(2.2, 0, 0),
+                                    Vec3(0.7, 0, 0), Vec3(1.5, 0, 0), Vec3(9, 9, 9)};
+  // Vertex 5 is not active; cells of 1 along x from the lowest active point (0.1).
+  EXPECT_EQ(detail::cellOrder(positions, {0, 1, 2, 3, 4}, 1.0),
+            (std::vector<int>{1, 3, 4, 0, 2}));
+}
