@@ -282,78 +282,84 @@ struct SaliencyOptions {
 
 namespace detail {
 
-inline void computeSaliencyImpl(const std::vector<Vec3> &points, const Rings &rings,
-                                const std::vector<double> &curvature_map, double epsilon,
-                                std::vector<double> &saliency, const SaliencyOptions &options) {
-  const int n = rings.vertex_count;
-  saliency.assign(n, 0.0);
-  if (n == 0 || !(epsilon > 0) || !std::isfinite(epsilon)) return;
-
-  // Isolated vertices carry no curvature: they neither contribute nor get a saliency.
+// The vertices with faces (isolated ones carry no curvature: they neither contribute nor get a
+// saliency).
+inline std::vector<int> verticesWithFaces(const Rings &rings) {
   std::vector<int> active;
-  active.reserve(n);
-  for (int v = 0; v < n; ++v)
+  active.reserve(rings.vertex_count);
+  for (int v = 0; v < rings.vertex_count; ++v)
     if (!rings.isolated[v]) active.push_back(v);
-  if (active.empty()) return;
+  return active;
+}
 
-  // Means and their differences are taken of the map minus its mid-range: S is unchanged, but the
-  // rounding is relative to the map's spread instead of its offset, and a constant map gives S = 0.
+// The map minus its mid-range on `active` (0 elsewhere) into `centred`; returns its half spread
+// (0 or not finite: nothing to see). S is unchanged, but the rounding of the means and their
+// differences is then relative to the map's spread instead of its offset, and a constant map
+// gives S = 0.
+inline double centredMap(const std::vector<double> &map, const std::vector<int> &active,
+                         std::vector<double> &centred) {
   double lowest = INFINITY, highest = -INFINITY;
   for (int v : active) {
-    lowest = std::min(lowest, curvature_map[v]);
-    highest = std::max(highest, curvature_map[v]);
+    lowest = std::min(lowest, map[v]);
+    highest = std::max(highest, map[v]);
   }
   const double middle = 0.5 * (lowest + highest), half_spread = 0.5 * (highest - lowest);
-  if (!(half_spread > 0) || !std::isfinite(half_spread)) return;
-  std::vector<double> centred(n, 0.0);
-  for (int v : active) centred[v] = curvature_map[v] - middle;
+  centred.assign(map.size(), 0.0);
+  if (!(half_spread > 0) || !std::isfinite(half_spread)) return half_spread;
+  for (int v : active) centred[v] = map[v] - middle;
+  return half_spread;
+}
 
-  // How many σ are summed exactly: those whose 2σ ball holds few vertices. A vertex of a regular
-  // triangulation owns (√3/2)·edge² of surface.
-  int exact_count = kSaliencySigmaCount;
-  if (std::isfinite(options.lattice_above_vertices)) {
-    double edge_sum = 0;
-    long edge_count = 0;
-    for (int v : active)
-      for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w)
-        if (*w > v) edge_sum += (points[*w] - points[v]).norm(), ++edge_count;
-    const double edge = edge_count ? edge_sum / edge_count : 0.0;
-    const double area_per_vertex = 0.5 * std::sqrt(3.0) * edge * edge;
-    exact_count = 0;
-    while (exact_count < kSaliencySigmaCount) {
-      const double radius = 2 * kSaliencySigmas[exact_count] * epsilon;
-      if (!(M_PI * radius * radius <= options.lattice_above_vertices * area_per_vertex)) break;
-      ++exact_count;
-    }
+// How many of the σ (smallest first) are summed exactly: those whose 2σ ball is expected to hold
+// at most options.lattice_above_vertices vertices, a vertex of a regular triangulation owning
+// (√3/2)·edge² of surface (the mean edge over `active`).
+inline int exactSigmaCount(const std::vector<Vec3> &points, const Rings &rings,
+                           const std::vector<int> &active, double epsilon,
+                           const SaliencyOptions &options) {
+  if (!std::isfinite(options.lattice_above_vertices)) return kSaliencySigmaCount;
+  double edge_sum = 0;
+  long edge_count = 0;
+  for (int v : active)
+    for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w)
+      if (*w > v) edge_sum += (points[*w] - points[v]).norm(), ++edge_count;
+  const double edge = edge_count ? edge_sum / edge_count : 0.0;
+  const double area_per_vertex = 0.5 * std::sqrt(3.0) * edge * edge;
+  int exact_count = 0;
+  while (exact_count < kSaliencySigmaCount) {
+    const double radius = 2 * kSaliencySigmas[exact_count] * epsilon;
+    if (!(M_PI * radius * radius <= options.lattice_above_vertices * area_per_vertex)) break;
+    ++exact_count;
   }
+  return exact_count;
+}
 
-  // means[s][v]: G at σ_s.
-  std::vector<std::vector<double>> means(kSaliencySigmaCount);
-  if (exact_count > 0) {
-    UniformPointGrid grid;
-    const double radius = 2 * kSaliencySigmas[exact_count - 1] * epsilon;
-    grid.build(points, centred, active, radius / std::max(options.cells_per_radius, 1));
-    for (int s = 0; s < exact_count; ++s) means[s].assign(n, 0.0);
-    // Queries in grid order, so consecutive queries share their neighbours in cache.
+// G at the first `exact_count` σ, summed exactly in one sweep of a grid of the active points:
+// means[s][v] (the others untouched).
+inline void exactGaussianMeans(const std::vector<Vec3> &points, const std::vector<int> &active,
+                               const std::vector<double> &centred, double epsilon, int exact_count,
+                               const SaliencyOptions &options,
+                               std::vector<std::vector<double>> &means) {
+  const int n = int(points.size());
+  UniformPointGrid grid;
+  const double radius = 2 * kSaliencySigmas[exact_count - 1] * epsilon;
+  grid.build(points, centred, active, radius / std::max(options.cells_per_radius, 1));
+  for (int s = 0; s < exact_count; ++s) means[s].assign(n, 0.0);
+  // Queries in grid order, so consecutive queries share their neighbours in cache.
 #pragma omp parallel for schedule(dynamic, 256) if (parallelHeavy(n))
-    for (int a = 0; a < int(active.size()); ++a) {
-      const int v = grid.sorted_vertex[a];
-      double m[kSaliencySigmaCount];
-      gaussianMeansSmallestSigmas(grid, points[v], epsilon, exact_count, m);
-      for (int s = 0; s < exact_count; ++s) means[s][v] = m[s];
-    }
+  for (int a = 0; a < int(active.size()); ++a) {
+    const int v = grid.sorted_vertex[a];
+    double m[kSaliencySigmaCount];
+    gaussianMeansSmallestSigmas(grid, points[v], epsilon, exact_count, m);
+    for (int s = 0; s < exact_count; ++s) means[s][v] = m[s];
   }
+}
 
-  if (exact_count < kSaliencySigmaCount) {
-    std::vector<double> sigmas;
-    for (int s = exact_count; s < kSaliencySigmaCount; ++s)
-      sigmas.push_back(kSaliencySigmas[s] * epsilon);
-    std::vector<std::vector<double>> lattice_means(sigmas.size());
-    latticeGaussianMeans(points, active, centred, sigmas, options.lattice, lattice_means);
-    for (int s = exact_count; s < kSaliencySigmaCount; ++s)
-      means[s].swap(lattice_means[s - exact_count]);
-  }
-
+// The saliency from the means at all σ: per scale |G(σ_fine) − G(σ_coarse)|, suppressed and summed
+// (addSuppressedScale; each fine mean freed after its scale), divided by its maximum.
+inline void sumSuppressedScales(const Rings &rings, const std::vector<int> &active,
+                                std::vector<std::vector<double>> &means, double half_spread,
+                                std::vector<double> &saliency) {
+  const int n = rings.vertex_count;
   std::vector<double> scale_saliency(n, 0.0);
   for (int i = 0; i < kSaliencyScales; ++i) {
     const std::vector<double> &fine = means[kScaleFine[i]], &coarse = means[kScaleCoarse[i]];
@@ -368,6 +374,35 @@ inline void computeSaliencyImpl(const std::vector<Vec3> &points, const Rings &ri
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
     for (int v = 0; v < n; ++v) saliency[v] /= maximum;
   }
+}
+
+inline void computeSaliencyImpl(const std::vector<Vec3> &points, const Rings &rings,
+                                const std::vector<double> &curvature_map, double epsilon,
+                                std::vector<double> &saliency, const SaliencyOptions &options) {
+  const int n = rings.vertex_count;
+  saliency.assign(n, 0.0);
+  if (n == 0 || !(epsilon > 0) || !std::isfinite(epsilon)) return;
+  const std::vector<int> active = verticesWithFaces(rings);
+  if (active.empty()) return;
+  std::vector<double> centred;
+  const double half_spread = centredMap(curvature_map, active, centred);
+  if (!(half_spread > 0) || !std::isfinite(half_spread)) return;
+
+  // means[s][v]: G at σ_s, exactly where the 2σ balls hold few vertices, else on the lattice.
+  const int exact_count = exactSigmaCount(points, rings, active, epsilon, options);
+  std::vector<std::vector<double>> means(kSaliencySigmaCount);
+  if (exact_count > 0)
+    exactGaussianMeans(points, active, centred, epsilon, exact_count, options, means);
+  if (exact_count < kSaliencySigmaCount) {
+    std::vector<double> sigmas;
+    for (int s = exact_count; s < kSaliencySigmaCount; ++s)
+      sigmas.push_back(kSaliencySigmas[s] * epsilon);
+    std::vector<std::vector<double>> lattice_means(sigmas.size());
+    latticeGaussianMeans(points, active, centred, sigmas, options.lattice, lattice_means);
+    for (int s = exact_count; s < kSaliencySigmaCount; ++s)
+      means[s].swap(lattice_means[s - exact_count]);
+  }
+  sumSuppressedScales(rings, active, means, half_spread, saliency);
 }
 
 // computeSaliency, all σ exact, with the grid's cell edge as a fraction of the largest cut-off

@@ -188,3 +188,29 @@ TEST(Saliency, IsolatedVerticesAndDegenerateEpsilonGiveZeros) {
   computeSaliency(m.points, r, map, 0.0, sal);
   for (double x : sal) EXPECT_EQ(x, 0.0);
 }
+
+// computeSaliency's stages.
+TEST(SaliencyStages, CentredMapAndItsHalfSpreadOverTheActiveVertices) {
+  std::vector<double> centred;
+  EXPECT_EQ(detail::centredMap({1, 3, 100, 5}, {0, 1, 3}, centred), 2.0);
+  EXPECT_EQ(centred, (std::vector<double>{-2, 0, 0, 2})); // vertex 2 not active: 0
+  EXPECT_EQ(detail::centredMap({4, 4}, {0, 1}, centred), 0.0); // a constant map: nothing to see
+}
+
+TEST(SaliencyStages, SigmasWhoseBallsHoldFewVerticesAreSummedExactly) {
+  const MeshArrays grid = test_meshes::heightField(30, 0, 1, 0, 1, [](double, double) { return 0; });
+  const Rings rings = computeRings(int(grid.points.size()), grid.faces);
+  const std::vector<int> active = detail::verticesWithFaces(rings);
+  ASSERT_EQ(active.size(), grid.points.size());
+  const double edge = edgeStatistics(grid.points, rings).mean_edge_length;
+  SaliencyOptions options; // at most 100 vertices per ball
+  // ε = one mean edge: the 2σ ball of σ = 2ε (radius 4 edges) covers 50.3 edge², 58 vertices of
+  // 0.866 edge²; at σ = 3ε it covers 113 edge², 131 vertices: only the smallest σ is exact.
+  EXPECT_EQ(detail::exactSigmaCount(grid.points, rings, active, edge, options), 1);
+  // ε = half an edge: σ = 2ε … 5ε (radii 2 … 5 edges, 78.5 edge² at 5) exact, 6ε (113) not.
+  EXPECT_EQ(detail::exactSigmaCount(grid.points, rings, active, 0.5 * edge, options), 4);
+  options.lattice_above_vertices = INFINITY;
+  EXPECT_EQ(detail::exactSigmaCount(grid.points, rings, active, edge, options), 8);
+  options.lattice_above_vertices = 0;
+  EXPECT_EQ(detail::exactSigmaCount(grid.points, rings, active, edge, options), 0);
+}
