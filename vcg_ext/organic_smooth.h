@@ -148,7 +148,69 @@ inline long organicPatchSweep(const std::vector<Vec3> &current, const DriverSetu
   return sweepVertices(current, setup, params.boundary, vertex_normals, move, next);
 }
 
-// The driver on `mesh` as given (organicSmoothMesh runs it in spatial order).
+// What the noise estimate asks of this mode: the report's spread, roughness (measuredRoughness),
+// heavy-tail factor and amount (the measured need times the user's strength). The tail factor
+// scales the measured need, not the strength: a mesh measured as clean (need 0) stays as it is.
+inline void organicAmount(const MeshArrays &mesh, DriverSetup &setup,
+                          const OrganicSmoothParams &params, OrganicSmoothReport &report) {
+  report.dihedral_spread_deg = inputSpreadDeg(mesh, setup);
+  report.noise = setup.noise;
+  report.roughness = measuredRoughness(setup.noise, report.dihedral_spread_deg,
+                                       params.clean_spread_deg, params.noisy_spread_deg);
+  report.tail_factor = heavyTailFactor(setup.noise, params.tails);
+  report.amount =
+      strengthen(std::min(1.0, report.roughness / params.full_noise_roughness) * report.tail_factor,
+                 params.strength);
+}
+
+// The patch updates after the band shrinkage. Patches take out curvature bias where the mesh is
+// smooth at the scale of a face's neighbourhood and add error where it has detail at that scale
+// (measured with the earlier 0.5/-0.53 bands: lion head 7.17 -> 7.01 with two updates, armadillo
+// 10.57 -> 10.94): each update moves the vertices the fraction of the way onto their patches that
+// the band shrinkage found the mesh smooth (report.patch_step), so the result changes continuously
+// with that measurement. Then the input volume on a closed mesh. `vertex_alpha`: the fits' α, for
+// inspection. Returns false when `update_done(update, count)` cancels.
+template <class UpdateDone>
+bool organicPatchUpdates(const MeshArrays &mesh, DriverSetup &setup,
+                         const OrganicSmoothParams &params, std::vector<Vec3> &current,
+                         std::vector<double> &vertex_alpha, OrganicSmoothReport &report,
+                         UpdateDone update_done) {
+  const Rings &rings = setup.rings;
+  std::vector<Vec3> next(current), vertex_normals, face_normals;
+  FacePatches patches;
+  report.patch_step = 1.0 - report.bands.detail;
+  const int patch_updates = report.patch_step > 0 ? params.max_patch_updates : 0;
+  report.patch_updates = patch_updates;
+  // The paper's α rule reads the face rings (faceAlphaFromSaliency).
+  if (patch_updates > 0 && !params.alpha_override)
+    setup.face_rings = computeFaceRings(mesh.faces, rings, /*with_edge_neighbours=*/false);
+  for (int update = 0; update < patch_updates; ++update) {
+    computeFaceNormals(current, mesh.faces, face_normals);
+    const std::vector<double> face_alpha =
+        params.alpha_override
+            ? std::vector<double>()
+            : saliencyFaceAlpha(current, mesh.faces, setup,
+                                params.saliency_scale * setup.stats.bbox_diagonal);
+    const long fallbacks = fitFacePatches(current, mesh.faces, rings, face_normals,
+                                          setup.stats.mean_edge_length, params.patches,
+                                          face_alpha, patches);
+    vertex_alpha = vertexAlphaOfPatches(rings, face_alpha, params.patches.alpha);
+    if (report.boundary_vertices)
+      computeBoundaryVertexNormals(current, mesh.faces, rings, vertex_normals);
+    const long rejected =
+        organicPatchSweep(current, setup, params, report.patch_step, patches, vertex_normals, next);
+    current.swap(next);
+    report.plane_fallbacks += fallbacks;
+    report.rejected_moves += rejected;
+    if (!update_done(update, patch_updates)) return false;
+  }
+  if (params.preserve_volume && report.closed)
+    restoreInputVolume(current, setup, mesh.faces, vertex_normals);
+  return true;
+}
+
+// The driver on `mesh` as given (organicSmoothMesh runs it in spatial order): the amount the
+// noise asks for, the band shrinkage, the patch updates, the result's quantities.
 inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
                                                 const OrganicSmoothParams &params,
                                                 std::vector<Vec3> &out_points,
@@ -167,25 +229,13 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     own_setup.emplace(detail::driverSetup(mesh, params.selected_only, params.boundary));
   detail::DriverSetup &setup = given_setup ? *given_setup : *own_setup;
   const Rings &rings = setup.rings;
-  const detail::VertexRoles &roles = setup.roles;
-  const std::vector<std::uint8_t> &fixed = setup.fixed;
-  const double edge = setup.stats.mean_edge_length;
   detail::reportSetup(setup, report);
-  report.dihedral_spread_deg = detail::inputSpreadDeg(mesh, setup);
-  report.noise = setup.noise;
-  report.roughness = detail::measuredRoughness(setup.noise, report.dihedral_spread_deg,
-                                               params.clean_spread_deg, params.noisy_spread_deg);
+  organicAmount(mesh, setup, params, report);
   report.seconds_topology = seconds(t);
   if (progress && !progress(5, "Noise estimate")) return report.cancelled = true, report;
 
   std::vector<Vec3> current = mesh.points;
-  // The heavy-tail factor scales the measured need, not the user's strength: a mesh measured as
-  // clean (need 0) stays as it is.
-  report.tail_factor = heavyTailFactor(setup.noise, params.tails);
-  report.amount = detail::strengthen(
-      std::min(1.0, report.roughness / params.full_noise_roughness) * report.tail_factor,
-      params.strength);
-  const bool noisy = report.amount > 0 && edge > 0;
+  const bool noisy = report.amount > 0 && setup.stats.mean_edge_length > 0;
   std::vector<double> vertex_alpha; // the α of the patch update's fits, for inspection
   if (progress && !progress(6, noisy ? "Band shrinkage" : "The mesh measures as clean"))
     return report.cancelled = true, report;
@@ -197,8 +247,8 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     // The band shrinkage, this mode's peak memory, reads no face rings, nor does the patch update
     // (its fit merges each face's ring when it needs it): ~136 bytes per vertex freed.
     setup.face_rings = FaceRings();
-    report.bands = bandShrinkSmooth(current, mesh.faces, rings, fixed, roles.boundary_neighbours,
-                                    bands, [&](double fraction) {
+    report.bands = bandShrinkSmooth(current, mesh.faces, rings, setup.fixed,
+                                    setup.roles.boundary_neighbours, bands, [&](double fraction) {
                                       return !progress ||
                                              progress(5 + int(75 * fraction), "Band shrinkage");
                                     });
@@ -206,41 +256,12 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     if (report.bands.cancelled) return report.cancelled = true, report;
 
     t = clock::now();
-    std::vector<Vec3> next(current), vertex_normals, face_normals;
-    FacePatches patches;
-    // Patches take out curvature bias where the mesh is smooth at the scale of a face's
-    // neighbourhood and add error where it has detail at that scale (measured with the earlier
-    // 0.5/-0.53 bands: lion head 7.17 -> 7.01 with two updates, armadillo 10.57 -> 10.94): each
-    // update moves the vertices the fraction of the way onto their patches that the band
-    // shrinkage found the mesh smooth, so the result changes continuously with that measurement.
-    report.patch_step = 1.0 - report.bands.detail;
-    const int patch_updates = report.patch_step > 0 ? params.max_patch_updates : 0;
-    report.patch_updates = patch_updates;
-    // The paper's α rule reads the face rings (faceAlphaFromSaliency).
-    if (patch_updates > 0 && !params.alpha_override)
-      setup.face_rings = computeFaceRings(mesh.faces, rings, /*with_edge_neighbours=*/false);
-    for (int update = 0; update < patch_updates; ++update) {
-      computeFaceNormals(current, mesh.faces, face_normals);
-      const std::vector<double> face_alpha =
-          params.alpha_override ? std::vector<double>()
-                                : detail::saliencyFaceAlpha(current, mesh.faces, setup,
-                                                            params.saliency_scale * setup.stats.bbox_diagonal);
-      const long fallbacks = fitFacePatches(current, mesh.faces, rings, face_normals, edge,
-                                            params.patches, face_alpha, patches);
-      vertex_alpha = detail::vertexAlphaOfPatches(rings, face_alpha, params.patches.alpha);
-      if (report.boundary_vertices)
-        computeBoundaryVertexNormals(current, mesh.faces, rings, vertex_normals);
-      const long rejected = detail::organicPatchSweep(current, setup, params, report.patch_step,
-                                                      patches, vertex_normals, next);
-      current.swap(next);
-      report.plane_fallbacks += fallbacks;
-      report.rejected_moves += rejected;
-      if (progress && !progress(80 + 10 * (update + 1) / patch_updates,
-                                "Patch update"))
-        return report.cancelled = true, report;
-    }
-    if (params.preserve_volume && report.closed)
-      detail::restoreInputVolume(current, setup, mesh.faces, vertex_normals);
+    if (!organicPatchUpdates(mesh, setup, params, current, vertex_alpha, report,
+                             [&](int update, int count) {
+                               return !progress ||
+                                      progress(80 + 10 * (update + 1) / count, "Patch update");
+                             }))
+      return report.cancelled = true, report;
     report.seconds_patches = seconds(t);
   }
 

@@ -764,3 +764,52 @@ TEST(OrganicSmooth, AlphaAttributeShowsTheAlphaThePatchUpdateUsed) {
   EXPECT_EQ(alpha_of(clean, true, 0.7),
             std::make_pair(0, std::vector<double>(clean.points.size(), 1.0)));
 }
+
+// organicSmoothAsGiven's stages.
+TEST(OrganicSmoothStages, AmountIsTheMeasuredNeedWithTheUsersStrength) {
+  const MeshArrays clean = test_meshes::icosphere(1.0, 4);
+  MeshArrays noisy = clean;
+  test_meshes::addNoise(noisy, 0.25 * meanEdge(clean), 6);
+  for (double strength : {1.0, 2.0}) {
+    OrganicSmoothParams params;
+    params.strength = strength;
+    detail::DriverSetup clean_setup = detail::driverSetup(clean, false);
+    OrganicSmoothReport report;
+    detail::organicAmount(clean, clean_setup, params, report);
+    EXPECT_EQ(report.roughness, 0.0);
+    EXPECT_EQ(report.amount, strength - 1); // clean: only what the user adds above 1
+    detail::DriverSetup noisy_setup = detail::driverSetup(noisy, false);
+    detail::organicAmount(noisy, noisy_setup, params, report);
+    EXPECT_EQ(report.roughness, 1.0);
+    EXPECT_GE(report.tail_factor, 1.0);
+    EXPECT_DOUBLE_EQ(report.amount, report.tail_factor + (strength - 1));
+  }
+}
+
+TEST(OrganicSmoothStages, PatchUpdatesGoTheMeasuredStepAndStopWhenCancelled) {
+  MeshArrays noisy = test_meshes::icosphere(1.0, 3);
+  test_meshes::addNoise(noisy, 0.1 * meanEdge(noisy), 6);
+  const OrganicSmoothParams params;
+  for (double detail_share : {1.0, 0.5}) {
+    detail::DriverSetup setup = detail::driverSetup(noisy, false);
+    OrganicSmoothReport report;
+    report.bands.detail = detail_share;
+    report.closed = true;
+    std::vector<Vec3> current = noisy.points;
+    std::vector<double> alpha;
+    int calls = 0;
+    EXPECT_TRUE(detail::organicPatchUpdates(noisy, setup, params, current, alpha, report,
+                                            [&](int, int) { return ++calls, true; }));
+    EXPECT_EQ(report.patch_step, 1.0 - detail_share);
+    EXPECT_EQ(calls, detail_share < 1 ? params.max_patch_updates : 0);
+    EXPECT_EQ(current == noisy.points, detail_share == 1.0);
+    EXPECT_EQ(alpha.size(), detail_share < 1 ? noisy.points.size() : 0u);
+  }
+  detail::DriverSetup setup = detail::driverSetup(noisy, false);
+  OrganicSmoothReport report;
+  report.bands.detail = 0.5;
+  std::vector<Vec3> current = noisy.points;
+  std::vector<double> alpha;
+  EXPECT_FALSE(detail::organicPatchUpdates(noisy, setup, params, current, alpha, report,
+                                           [](int, int) { return false; }));
+}
