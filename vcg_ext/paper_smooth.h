@@ -90,21 +90,20 @@ inline bool nearNeighbourhood(const Vec3 &point, const std::vector<Vec3> &local)
 
 } // namespace detail
 
-// One vertex's new position from the current positions `p` (stages 4-7). Returns p[i] unchanged
-// where the vertex cannot be placed, counting why.
-inline Vec3 placeVertex(int i, const MeshArrays &mesh, const Rings &rings,
-                        const std::vector<Vec3> &p, const SurfaceAnalysis &analysis,
-                        const SmoothParams &params, double mean_edge, double max_saliency,
-                        NeighbourhoodScratch &scratch, double &alpha_out,
-                        detail::Counters &counters) {
-  const CurvatureField &c = analysis.curvature;
-  LocalFrame frame;
-  Vec3 normal = detail::neighbourhoodNormal(i, rings, c.normal);
+namespace detail {
+
+// Stages 1-3: vertex i's neighbourhood projected onto the plane of its approximate normal (into
+// `frame` and `scratch`). With the paper's fold handling, a folded projection falls back to the
+// vertex's own normal, then to its 1-ring. False (counted) when no projection is usable.
+inline bool projectNeighbourhoodOf(int i, const MeshArrays &mesh, const Rings &rings,
+                                   const std::vector<Vec3> &p, const CurvatureField &c,
+                                   FoldHandling folds, LocalFrame &frame,
+                                   NeighbourhoodScratch &scratch, Counters &counters) {
+  Vec3 normal = neighbourhoodNormal(i, rings, c.normal);
   NeighbourhoodSize size = NeighbourhoodSize::TwoRing;
   bool ok = normal.squaredNorm() > 0.5 &&
             projectNeighbourhood(i, p, rings, size, normal, frame, scratch);
-  if (ok && params.folds == FoldHandling::Paper &&
-      neighbourhoodFolds(i, p, mesh.faces, rings, frame, scratch)) {
+  if (ok && folds == FoldHandling::Paper && neighbourhoodFolds(i, p, mesh.faces, rings, frame, scratch)) {
     ++counters.fold_fallbacks;
     normal = c.normal[i];
     ok = projectNeighbourhood(i, p, rings, size, normal, frame, scratch) &&
@@ -116,24 +115,80 @@ inline Vec3 placeVertex(int i, const MeshArrays &mesh, const Rings &rings,
     }
     if (!ok) {
       ++counters.fold_skips;
-      return p[i];
+      return false;
     }
   }
-  if (!ok) {
-    ++counters.fit_failures;
-    return p[i];
-  }
+  if (!ok) ++counters.fit_failures;
+  return ok;
+}
 
-  // Stage 4: alpha from the saliency spread over the fitting neighbourhood.
-  double alpha = params.alpha;
-  if (!params.alpha_override) {
-    double lo = INFINITY, hi = 0;
-    for (int w : scratch.vertices) {
-      lo = std::min(lo, analysis.saliency[w]);
-      hi = std::max(hi, analysis.saliency[w]);
-    }
-    alpha = hi < 1e-6 * max_saliency || hi <= 0 ? 1.0 : lo / hi;
+// Stage 4: the paper's α from the saliency spread over the fitting neighbourhood's vertices,
+// Saliency_min / Saliency_max (1 where nothing there is salient); the user's α with the override.
+inline double neighbourhoodAlpha(const std::vector<int> &vertices,
+                                 const std::vector<double> &saliency, double max_saliency,
+                                 const SmoothParams &params) {
+  if (params.alpha_override) return params.alpha;
+  double lo = INFINITY, hi = 0;
+  for (int w : vertices) {
+    lo = std::min(lo, saliency[w]);
+    hi = std::max(hi, saliency[w]);
   }
+  return hi < 1e-6 * max_saliency || hi <= 0 ? 1.0 : lo / hi;
+}
+
+// The ring barycentre's patch parameters (the barycentre projected into the frame, clamped).
+inline void ringBarycentreParameters(int i, const Rings &rings, const std::vector<Vec3> &p,
+                                     const LocalFrame &frame, double &u, double &v) {
+  Vec3 centre = Vec3::Zero();
+  for (const int *w = rings.ring1Begin(i); w != rings.ring1End(i); ++w) centre += p[*w];
+  const Vec3 local = frame.toLocal(centre / rings.ring1Size(i));
+  u = std::clamp(frame.u(local), 0.0, 1.0);
+  v = std::clamp(frame.v(local), 0.0, 1.0);
+}
+
+// The paper's placement (stages 6-7): Newton from (u, v) towards the patch point whose curvature
+// is the uniform principal curvature of vertex i's 1-ring (saliency-weighted). As printed, the
+// clamped parameter is used whether or not Newton converged (failures counted).
+inline void paperParameters(int i, const Rings &rings, const SurfaceAnalysis &analysis,
+                            const BezierPatch &patch, const SmoothParams &params,
+                            double mean_edge, double &u, double &v, Counters &counters) {
+  const CurvatureField &c = analysis.curvature;
+  VertexCurvature self{c.k1[i], c.k2[i], c.dir1[i], c.dir2[i], c.normal[i]};
+  constexpr int kMaxRing = 64;
+  VertexCurvature ring[kMaxRing];
+  double weights[kMaxRing];
+  int m = 0;
+  for (const int *w = rings.ring1Begin(i); w != rings.ring1End(i) && m < kMaxRing; ++w, ++m) {
+    ring[m] = {c.k1[*w], c.k2[*w], c.dir1[*w], c.dir2[*w], c.normal[*w]};
+    weights[m] = analysis.saliency[*w];
+  }
+  double k1u = 0, k2u = 0;
+  uniformPrincipalCurvature(self, ring, weights, m, params.uniform_variant, k1u, k2u);
+  NewtonOptions options;
+  options.iterations = params.newton_iterations;
+  options.max_step = params.newton_step_limit * mean_edge;
+  // Meyer's H is positive where the surface bends away from its normal (a sphere with outward
+  // normals has H = +1/r); the patch formula of paper 3.3 has the opposite sign.
+  const NewtonResult r = solveCurvatureTarget(patch, u, v, k1u * k2u, -0.5 * (k1u + k2u), options);
+  if (r.status != NewtonStatus::Converged) ++counters.newton_failures;
+  u = r.u, v = r.v;
+}
+
+} // namespace detail
+
+// One vertex's new position from the current positions `p` (stages 4-7). Returns p[i] unchanged
+// where the vertex cannot be placed, counting why.
+inline Vec3 placeVertex(int i, const MeshArrays &mesh, const Rings &rings,
+                        const std::vector<Vec3> &p, const SurfaceAnalysis &analysis,
+                        const SmoothParams &params, double mean_edge, double max_saliency,
+                        NeighbourhoodScratch &scratch, double &alpha_out,
+                        detail::Counters &counters) {
+  LocalFrame frame;
+  if (!detail::projectNeighbourhoodOf(i, mesh, rings, p, analysis.curvature, params.folds, frame,
+                                      scratch, counters))
+    return p[i];
+  const double alpha =
+      detail::neighbourhoodAlpha(scratch.vertices, analysis.saliency, max_saliency, params);
   alpha_out = alpha;
 
   BezierPatch patch;
@@ -145,42 +200,11 @@ inline Vec3 placeVertex(int i, const MeshArrays &mesh, const Rings &rings,
     ++counters.fit_failures;
     return p[i];
   }
-
   double u = scratch.u[0], v = scratch.v[0]; // q_i is the first point
-  switch (params.placement) {
-  case PlacementMode::PatchPoint:
-    break;
-  case PlacementMode::RingBarycentre: {
-    Vec3 centre = Vec3::Zero();
-    for (const int *w = rings.ring1Begin(i); w != rings.ring1End(i); ++w) centre += p[*w];
-    const Vec3 local = frame.toLocal(centre / rings.ring1Size(i));
-    u = std::clamp(frame.u(local), 0.0, 1.0);
-    v = std::clamp(frame.v(local), 0.0, 1.0);
-    break;
-  }
-  case PlacementMode::Paper: {
-    VertexCurvature self{c.k1[i], c.k2[i], c.dir1[i], c.dir2[i], c.normal[i]};
-    constexpr int kMaxRing = 64;
-    VertexCurvature ring[kMaxRing];
-    double weights[kMaxRing];
-    int m = 0;
-    for (const int *w = rings.ring1Begin(i); w != rings.ring1End(i) && m < kMaxRing; ++w, ++m) {
-      ring[m] = {c.k1[*w], c.k2[*w], c.dir1[*w], c.dir2[*w], c.normal[*w]};
-      weights[m] = analysis.saliency[*w];
-    }
-    double k1u = 0, k2u = 0;
-    uniformPrincipalCurvature(self, ring, weights, m, params.uniform_variant, k1u, k2u);
-    NewtonOptions options;
-    options.iterations = params.newton_iterations;
-    options.max_step = params.newton_step_limit * mean_edge;
-    // Meyer's H is positive where the surface bends away from its normal (a sphere with outward
-    // normals has H = +1/r); the patch formula of paper 3.3 has the opposite sign.
-    const NewtonResult r = solveCurvatureTarget(patch, u, v, k1u * k2u, -0.5 * (k1u + k2u), options);
-    if (r.status != NewtonStatus::Converged) ++counters.newton_failures;
-    u = r.u, v = r.v; // as printed: the clamped parameter is used whether or not Newton converged
-    break;
-  }
-  }
+  if (params.placement == PlacementMode::RingBarycentre)
+    detail::ringBarycentreParameters(i, rings, p, frame, u, v);
+  else if (params.placement == PlacementMode::Paper)
+    detail::paperParameters(i, rings, analysis, patch, params, mean_edge, u, v, counters);
   const Vec3 on_patch = patch.eval(u, v);
   const Vec3 moved = frame.toWorld(on_patch);
   if (!moved.allFinite()) {

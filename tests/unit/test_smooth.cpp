@@ -247,3 +247,41 @@ TEST(PaperStages, SweepMovesOnlyMovableVerticesAndStopsWhenABlockSaysSo) {
   EXPECT_FALSE(detail::paperVertexSweep(noisy, setup, noisy.points, analysis, params, alpha,
                                         next, report, [](int) { return false; }));
 }
+
+// placeVertex's stages.
+TEST(PaperStages, NeighbourhoodAlphaIsTheSaliencySpreadOrTheOverride) {
+  SmoothParams params;
+  params.alpha = 0.3;
+  const std::vector<double> saliency{0.2, 0.8, 0.4, 0.0};
+  EXPECT_EQ(detail::neighbourhoodAlpha({0, 1, 2}, saliency, 1.0, params), 0.3); // the override
+  params.alpha_override = false;
+  EXPECT_DOUBLE_EQ(detail::neighbourhoodAlpha({0, 1, 2}, saliency, 1.0, params), 0.25);
+  EXPECT_EQ(detail::neighbourhoodAlpha({3}, saliency, 1.0, params), 1.0); // nothing salient
+}
+
+TEST(PaperStages, ProjectionOfAFlatNeighbourhoodAndItsRingBarycentre) {
+  const MeshArrays grid = test_meshes::heightField(7, 0, 1, 0, 1, [](double, double) { return 0; });
+  const Rings rings = computeRings(49, grid.faces);
+  CurvatureField c;
+  computeVertexNormals(grid.points, grid.faces, rings, c.normal);
+  const int centre = 3 * 7 + 3;
+  LocalFrame frame;
+  NeighbourhoodScratch scratch;
+  detail::Counters counters;
+  ASSERT_TRUE(detail::projectNeighbourhoodOf(centre, grid, rings, grid.points, c,
+                                             FoldHandling::Paper, frame, scratch, counters));
+  EXPECT_EQ(scratch.vertices.size(), 19u); // the vertex and its 2-ring
+  EXPECT_EQ(counters.fold_fallbacks, 0);
+  // A regular ring's barycentre is the vertex itself: its own patch parameters.
+  double u = -1, v = -1;
+  detail::ringBarycentreParameters(centre, rings, grid.points, frame, u, v);
+  EXPECT_NEAR(u, scratch.u[0], 1e-12);
+  EXPECT_NEAR(v, scratch.v[0], 1e-12);
+  // Without a normal there is nothing to project onto: counted as a failed fit.
+  c.normal[centre] = Vec3::Zero();
+  for (const int *w = rings.ring2Begin(centre); w != rings.ring2End(centre); ++w)
+    c.normal[*w] = Vec3::Zero();
+  EXPECT_FALSE(detail::projectNeighbourhoodOf(centre, grid, rings, grid.points, c,
+                                              FoldHandling::Ignore, frame, scratch, counters));
+  EXPECT_EQ(counters.fit_failures, 1);
+}
