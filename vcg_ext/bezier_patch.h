@@ -196,34 +196,21 @@ struct FitThresholds {
   static constexpr double pseudo_inverse = 1e-11;   // eigenvalues below this × the largest are dropped
 };
 
-// Weighted least-squares fit of the patch:
-//   minimise α² Σ_k w_k |A_k x − q_k|² + (1−α)² |S x|²   (w = nullptr: all w_k = 1),
-// i.e. w_k weights the squared residual of point k (its row of A and B is multiplied by √w_k).
-// The points are centred on their mean before the solve: the fit is translation invariant in
-// exact arithmetic (A's rows sum to 1, S's rows to 0) and a minimum-norm solution then keeps the
-// undetermined control points near the data instead of near the world origin.
-inline FitStatus fitBezierPatch(const double *u, const double *v, const Vec3 *points, const double *w,
-                                int n, double alpha, BezierPatch &out) {
-  using Mat9 = Eigen::Matrix<double, 9, 9>;
-  using Rhs = Eigen::Matrix<double, 9, 3>;
-  if (n < 1 || !(alpha > 0.0 && alpha <= 1.0)) return FitStatus::Failed;
+namespace detail {
 
-  Vec3 centre = Vec3::Zero();
-  for (int k = 0; k < n; ++k) {
-    if (!std::isfinite(u[k]) || !std::isfinite(v[k]) || !points[k].allFinite()) return FitStatus::Failed;
-    if (w && !(w[k] >= 0.0 && std::isfinite(w[k]))) return FitStatus::Failed;
-    centre += points[k];
-  }
-  centre /= double(n);
-
-  // AᵀA has 45 distinct entries but only 36 distinct values: entry ((i,j),(k,l)) is
-  // Σ B_i(u)B_k(u) · B_j(v)B_l(v), a product of one of 6 u-pairs and one of 6 v-pairs. The sums run
-  // over chunks of 8 points as dot products of fixed length (unrolled and vectorised; the
-  // accumulators stay in registers), the last chunk padded with zero weights.
+// The fit's normal equations M x = rhs (x: the 9 control points minus `centre`, one column per
+// coordinate), data term weighted by α², smoothness (the parallelogram term) by (1 − α)².
+// AᵀA has 45 distinct entries but only 36 distinct values: entry ((i,j),(k,l)) is
+// Σ B_i(u)B_k(u) · B_j(v)B_l(v), a product of one of 6 u-pairs and one of 6 v-pairs. The sums run
+// over chunks of 8 points as dot products of fixed length (unrolled and vectorised; the
+// accumulators stay in registers), the last chunk padded with zero weights.
+inline void bezierNormalEquations(const double *u, const double *v, const Vec3 *points,
+                                  const double *w, int n, double alpha, const Vec3 &centre,
+                                  double M[9][9], double rhs[9][3]) {
   constexpr int kPair[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
   constexpr int kChunk = 8;
   double products[6][6] = {};
-  double rhs[9][3] = {};
+  for (int r = 0; r < 9; ++r) rhs[r][0] = rhs[r][1] = rhs[r][2] = 0.0;
   const double a2 = alpha * alpha;
   for (int first = 0; first < n; first += kChunk) {
     alignas(16) double pu[6][kChunk], pv[6][kChunk], bb[9][kChunk], d[3][kChunk];
@@ -257,17 +244,70 @@ inline FitStatus fitBezierPatch(const double *u, const double *v, const Vec3 *po
         rhs[r][x] += sum;
       }
   }
-  double M[9][9];
   for (int r = 0; r < 9; ++r)
     for (int c = 0; c <= r; ++c) M[r][c] = M[c][r] = products[kPair[r / 3][c / 3]][kPair[r % 3][c % 3]];
   const double s2 = (1.0 - alpha) * (1.0 - alpha);
   if (s2 > 0.0) {
-    static const Mat9 StS = parallelogramMatrix().transpose() * parallelogramMatrix();
+    static const Eigen::Matrix<double, 9, 9> StS =
+        parallelogramMatrix().transpose() * parallelogramMatrix();
     for (int r = 0; r < 9; ++r)
       for (int c = 0; c < 9; ++c) M[r][c] += s2 * StS(r, c);
   }
+}
 
-  Rhs X;
+// The rank-revealing fallback: X = M⁺ rhs, the pseudo-inverse from the symmetric
+// eigen-decomposition (eigenvalues below FitThresholds::pseudo_inverse of the largest dropped:
+// RankDeficient).
+inline FitStatus pseudoInverseSolve(const double M[9][9], const double rhs[9][3],
+                                    Eigen::Matrix<double, 9, 3> &X) {
+  Eigen::Matrix<double, 9, 9> A;
+  Eigen::Matrix<double, 9, 3> R;
+  for (int r = 0; r < 9; ++r) {
+    for (int c = 0; c < 9; ++c) A(r, c) = M[r][c];
+    for (int c = 0; c < 3; ++c) R(r, c) = rhs[r][c];
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 9, 9>> eig(A);
+  if (eig.info() != Eigen::Success) return FitStatus::Failed;
+  const auto &lambda = eig.eigenvalues(); // ascending
+  const double lmax = lambda[8];
+  if (!(lmax > 0.0)) return FitStatus::Failed;
+  FitStatus status = FitStatus::Ok;
+  Eigen::Matrix<double, 9, 1> inv;
+  for (int k = 0; k < 9; ++k) {
+    if (lambda[k] > FitThresholds::pseudo_inverse * lmax) {
+      inv[k] = 1.0 / lambda[k];
+    } else {
+      inv[k] = 0.0;
+      status = FitStatus::RankDeficient;
+    }
+  }
+  const auto &V = eig.eigenvectors();
+  X.noalias() = V * (inv.asDiagonal() * (V.transpose() * R));
+  return status;
+}
+
+} // namespace detail
+
+// Weighted least-squares fit of the patch:
+//   minimise α² Σ_k w_k |A_k x − q_k|² + (1−α)² |S x|²   (w = nullptr: all w_k = 1),
+// i.e. w_k weights the squared residual of point k (its row of A and B is multiplied by √w_k).
+// The points are centred on their mean before the solve: the fit is translation invariant in
+// exact arithmetic (A's rows sum to 1, S's rows to 0) and a minimum-norm solution then keeps the
+// undetermined control points near the data instead of near the world origin.
+inline FitStatus fitBezierPatch(const double *u, const double *v, const Vec3 *points, const double *w,
+                                int n, double alpha, BezierPatch &out) {
+  if (n < 1 || !(alpha > 0.0 && alpha <= 1.0)) return FitStatus::Failed;
+  Vec3 centre = Vec3::Zero();
+  for (int k = 0; k < n; ++k) {
+    if (!std::isfinite(u[k]) || !std::isfinite(v[k]) || !points[k].allFinite()) return FitStatus::Failed;
+    if (w && !(w[k] >= 0.0 && std::isfinite(w[k]))) return FitStatus::Failed;
+    centre += points[k];
+  }
+  centre /= double(n);
+  double M[9][9], rhs[9][3];
+  detail::bezierNormalEquations(u, v, points, w, n, alpha, centre, M, rhs);
+
+  Eigen::Matrix<double, 9, 3> X;
   FitStatus status = FitStatus::Ok;
   double L[9][9];
   std::copy(&M[0][0], &M[0][0] + 81, &L[0][0]);
@@ -277,29 +317,8 @@ inline FitStatus fitBezierPatch(const double *u, const double *v, const Vec3 *po
     for (int i = 0; i < 9; ++i)
       for (int r = 0; r < 3; ++r) X(i, r) = solution[i][r];
   } else {
-    // Rank-revealing fallback: pseudo-inverse from the symmetric eigen-decomposition.
-    Mat9 A;
-    Rhs R;
-    for (int r = 0; r < 9; ++r) {
-      for (int c = 0; c < 9; ++c) A(r, c) = M[r][c];
-      for (int c = 0; c < 3; ++c) R(r, c) = rhs[r][c];
-    }
-    Eigen::SelfAdjointEigenSolver<Mat9> eig(A);
-    if (eig.info() != Eigen::Success) return FitStatus::Failed;
-    const auto &lambda = eig.eigenvalues(); // ascending
-    const double lmax = lambda[8];
-    if (!(lmax > 0.0)) return FitStatus::Failed;
-    Eigen::Matrix<double, 9, 1> inv;
-    for (int k = 0; k < 9; ++k) {
-      if (lambda[k] > FitThresholds::pseudo_inverse * lmax) {
-        inv[k] = 1.0 / lambda[k];
-      } else {
-        inv[k] = 0.0;
-        status = FitStatus::RankDeficient;
-      }
-    }
-    const auto &V = eig.eigenvectors();
-    X.noalias() = V * (inv.asDiagonal() * (V.transpose() * R));
+    status = detail::pseudoInverseSolve(M, rhs, X);
+    if (status == FitStatus::Failed) return status;
   }
   if (!X.allFinite()) return FitStatus::Failed;
   for (int k = 0; k < 9; ++k) out.b[k] = X.row(k).transpose() + centre;

@@ -410,3 +410,46 @@ TEST(BezierPatch, PerVertexStagesDoNotAllocate) {
   EXPECT_EQ(s2, FitStatus::RankDeficient);
   EXPECT_TRUE(std::isfinite(k1 + k2 + r1.u + r2.v));
 }
+
+// fitBezierPatch's stages.
+TEST(BezierPatchStages, NormalEquationsAreTheDenseOnesPlusTheSmoothnessTerm) {
+  // Four points: M = α² Σ b bᵀ + (1 − α)² SᵀS and rhs = α² Σ b (q − centre)ᵀ, written out densely.
+  const double u[4] = {0.1, 0.7, 0.4, 0.9}, v[4] = {0.3, 0.2, 0.8, 0.6};
+  const Vec3 q[4] = {Vec3(1, 2, 3), Vec3(0, 1, -1), Vec3(2, 2, 0), Vec3(-1, 0, 1)};
+  const Vec3 centre(0.5, 1.25, 0.75);
+  const double alpha = 0.6;
+  double M[9][9], rhs[9][3];
+  detail::bezierNormalEquations(u, v, q, nullptr, 4, alpha, centre, M, rhs);
+  Eigen::Matrix<double, 9, 9> dense = std::pow(1 - alpha, 2) * parallelogramMatrix().transpose() *
+                                      parallelogramMatrix();
+  Eigen::Matrix<double, 9, 3> dense_rhs = Eigen::Matrix<double, 9, 3>::Zero();
+  for (int k = 0; k < 4; ++k) {
+    const double su = 1 - u[k], sv = 1 - v[k];
+    const double bu[3] = {su * su, 2 * u[k] * su, u[k] * u[k]};
+    const double bv[3] = {sv * sv, 2 * v[k] * sv, v[k] * v[k]};
+    Eigen::Matrix<double, 9, 1> b;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) b[3 * i + j] = bu[i] * bv[j];
+    dense += alpha * alpha * b * b.transpose();
+    dense_rhs += alpha * alpha * b * (q[k] - centre).transpose();
+  }
+  for (int r = 0; r < 9; ++r) {
+    for (int c = 0; c < 9; ++c) EXPECT_NEAR(M[r][c], dense(r, c), 1e-14) << r << "," << c;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(rhs[r][c], dense_rhs(r, c), 1e-14);
+  }
+}
+
+TEST(BezierPatchStages, PseudoInverseGivesTheMinimumNormSolutionOfARankDeficientSystem) {
+  // diag(2, 0, …, 0): only the first unknown is determined; the others stay 0.
+  double M[9][9] = {}, rhs[9][3] = {};
+  M[0][0] = 2;
+  rhs[0][0] = 4, rhs[0][1] = -2, rhs[0][2] = 1;
+  Eigen::Matrix<double, 9, 3> X;
+  EXPECT_EQ(detail::pseudoInverseSolve(M, rhs, X), FitStatus::RankDeficient);
+  EXPECT_NEAR(X(0, 0), 2.0, 1e-14);
+  EXPECT_NEAR(X(0, 1), -1.0, 1e-14);
+  EXPECT_NEAR(X(0, 2), 0.5, 1e-14);
+  EXPECT_NEAR(X.bottomRows(8).norm(), 0.0, 1e-14);
+  const double zero[9][9] = {};
+  EXPECT_EQ(detail::pseudoInverseSolve(zero, rhs, X), FitStatus::Failed);
+}
