@@ -31,7 +31,12 @@ double meanEdge(const MeshArrays &m) {
   return edgeStatistics(m.points, computeRings(int(m.points.size()), m.faces)).mean_edge_length;
 }
 
-// Gaussian noise along each vertex's area-weighted normal (the literature's noise).
+// A box of 8 × 8 squares per side with Gaussian noise of 0.3 mean edge lengths along each
+// vertex's area-weighted normal (the literature's noise), for the stages' tests.
+MeshArrays noisySmallBox() {
+  const MeshArrays clean = test_meshes::box(1.0, 0.8, 0.6, 8);
+  return test_meshes::withNormalNoise(clean, 0.3 * meanEdge(clean), 3);
+}
 } // namespace
 
 TEST(FeatureSmooth, NoisyBoxKeepsItsEdgesBetterThanTheRingBarycentreMode) {
@@ -416,8 +421,7 @@ TEST(FeatureSmooth, AlphaAttributeShowsTheAlphaThePatchFitsUsed) {
 }
 
 TEST(FeatureSmoothStages, FilterPassStopsAtTheCheckpointOnlyWhenTheCheckDeclines) {
-  const MeshArrays clean = test_meshes::box(1.0, 0.8, 0.6, 8);
-  const MeshArrays noisy = test_meshes::withNormalNoise(clean, 0.3 * meanEdge(clean), 3);
+  const MeshArrays noisy = noisySmallBox();
   detail::DriverSetup setup = detail::driverSetup(noisy, false);
   detail::ensureFaceRings(noisy, setup); // (as the driver does)
   FeatureSmoothParams params;
@@ -458,8 +462,7 @@ TEST(FeatureSmoothStages, FilterPassStopsAtTheCheckpointOnlyWhenTheCheckDeclines
 }
 
 TEST(FeatureSmoothStages, VertexUpdateOntoPlanesOrPatchesAndThePatchesAlpha) {
-  const MeshArrays clean = test_meshes::box(1.0, 0.8, 0.6, 8);
-  const MeshArrays noisy = test_meshes::withNormalNoise(clean, 0.3 * meanEdge(clean), 3);
+  const MeshArrays noisy = noisySmallBox();
   detail::DriverSetup setup = detail::driverSetup(noisy, false);
   detail::ensureFaceRings(noisy, setup); // (as the driver does)
   FeatureSmoothParams params;
