@@ -252,13 +252,15 @@ inline bool restoreVolume(std::vector<Vec3> &points, const std::vector<Face> &fa
 }
 
 // Describes a result with the same per-vertex quantities as the other modes (curvatures and
-// saliency of the result, displacement from the input) and `vertex_alpha`, the α the patch fits
-// used (vertexAlphaOfPatches), or 1 where it is empty (no patch update ran). Returns how many
-// vertices moved.
+// saliency of the result, displacement from the input) and the α its patch fits used:
+// `vertex_alpha` when it holds one value per vertex (the paper's rule, vertexAlphaOfPatches), else
+// `uniform_alpha` at every vertex with faces (the user's override; 1 where no patch update ran),
+// made after the saliency so that it does not add to the run's peak. Returns how many vertices
+// moved.
 inline long describeResult(const std::vector<Vec3> &input, const std::vector<Vec3> &result,
                            const std::vector<Face> &faces, const Rings &rings,
                            double saliency_scale, VertexQuantities &quantities,
-                           std::vector<double> &&vertex_alpha = {}) {
+                           std::vector<double> &&vertex_alpha = {}, double uniform_alpha = 1.0) {
   const int n = int(result.size());
   SurfaceAnalysis analysis;
   analyseSurface(result, faces, rings, saliency_scale, analysis, /*with_directions=*/false);
@@ -267,8 +269,13 @@ inline long describeResult(const std::vector<Vec3> &input, const std::vector<Vec
   quantities.k2 = std::move(analysis.curvature.k2);
   quantities.mean = std::move(analysis.curvature.mean);
   quantities.gauss = std::move(analysis.curvature.gauss);
-  if (vertex_alpha.size() == size_t(n)) quantities.alpha = std::move(vertex_alpha);
-  else quantities.alpha.assign(n, 1.0);
+  if (vertex_alpha.size() == size_t(n)) {
+    quantities.alpha = std::move(vertex_alpha);
+  } else {
+    quantities.alpha.assign(n, 1.0);
+    for (int v = 0; v < n; ++v)
+      if (rings.facesBegin(v) != rings.facesEnd(v)) quantities.alpha[v] = uniform_alpha;
+  }
   quantities.displacement.assign(n, 0.0);
   long moved = 0;
   for (int i = 0; i < n; ++i) {
@@ -330,16 +337,16 @@ template <class Report> void reportSetup(const DriverSetup &setup, Report &repor
 }
 
 // A driver's last step: the result's quantities for inspection (describeResult, timed, with the
-// α its patch fits used), its volume, and the result handed to the caller (`result` is left
-// empty).
+// α its patch fits used: `vertex_alpha` or `uniform_alpha`), its volume, and the result handed to
+// the caller (`result` is left empty).
 template <class Report>
 void finishDriver(const MeshArrays &mesh, const Rings &rings, double saliency_scale,
                   std::vector<Vec3> &result, std::vector<Vec3> &out_points,
                   VertexQuantities &quantities, Report &report,
-                  std::vector<double> &&vertex_alpha = {}) {
+                  std::vector<double> &&vertex_alpha = {}, double uniform_alpha = 1.0) {
   const auto start = std::chrono::steady_clock::now();
   report.vertices_moved = describeResult(mesh.points, result, mesh.faces, rings, saliency_scale,
-                                         quantities, std::move(vertex_alpha));
+                                         quantities, std::move(vertex_alpha), uniform_alpha);
   report.seconds_quantities =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   report.volume_after = signedVolume(result, mesh.faces);
@@ -442,22 +449,17 @@ inline std::vector<double> saliencyFaceAlpha(const std::vector<Vec3> &points,
   return faceAlphaFromSaliency(faces, setup.face_rings, analysis.saliency);
 }
 
-// Per vertex, the α the patch fits of its faces used, for inspection (the "Alpha" attribute): the
-// mean of `face_alpha` over the vertex's faces (the paper's saliency rule, saliencyFaceAlpha), or
-// `alpha` where `face_alpha` is empty (the user's override, the same for every face); 1 for a
-// vertex without faces. A vertex's last update moved it onto these faces' patches.
+// Per vertex, the α the patch fits of its faces used under the paper's saliency rule, for
+// inspection (the "Alpha" attribute): the mean of `face_alpha` (saliencyFaceAlpha) over the
+// vertex's faces, 1 for a vertex without faces. A vertex's last update moved it onto these faces'
+// patches. (Under the user's override every patch has the one α: describeResult's uniform_alpha.)
 inline std::vector<double> vertexAlphaOfPatches(const Rings &rings,
-                                                const std::vector<double> &face_alpha,
-                                                double alpha) {
+                                                const std::vector<double> &face_alpha) {
   const int n = rings.vertex_count;
   std::vector<double> out(n, 1.0);
   for (int v = 0; v < n; ++v) {
     const int *begin = rings.facesBegin(v), *end = rings.facesEnd(v);
     if (begin == end) continue;
-    if (face_alpha.empty()) {
-      out[v] = alpha;
-      continue;
-    }
     double sum = 0;
     int count = 0;
     for (const int *f = begin; f != end; ++f)

@@ -374,17 +374,24 @@ TEST(FeatureSmoothStages, VertexSweepMovesOntoTheFilteredPlanes) {
   EXPECT_EQ(detail::featureVertexSweep(current, setup, params, edge, inputs, next), 1);
 }
 
-// The "Alpha" attribute: per vertex the mean of its faces' patch α, or the override's α.
+// The "Alpha" attribute: per vertex the mean of its faces' patch α (the paper's rule), or the
+// override's α at every vertex with faces, filled in after the saliency.
 TEST(DriverStages, VertexAlphaIsTheMeanOfItsFacesOrTheOverride) {
   // Two triangles sharing the edge 1-2, and vertex 4 without faces.
   const MeshArrays m = test_meshes::fromArrays(
       {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0), Vec3(5, 5, 5)},
       {Face{0, 1, 2}, Face{1, 3, 2}});
   const Rings rings = computeRings(5, m.faces);
-  const std::vector<double> by_faces = detail::vertexAlphaOfPatches(rings, {0.2, 0.6}, 0.9);
+  const std::vector<double> by_faces = detail::vertexAlphaOfPatches(rings, {0.2, 0.6});
   EXPECT_EQ(by_faces, (std::vector<double>{0.2, 0.4, 0.4, 0.6, 1.0}));
-  const std::vector<double> override = detail::vertexAlphaOfPatches(rings, {}, 0.35);
-  EXPECT_EQ(override, (std::vector<double>{0.35, 0.35, 0.35, 0.35, 1.0}));
+  std::vector<Vec3> result = m.points;
+  VertexQuantities q;
+  detail::describeResult(m.points, result, m.faces, rings, 0.1, q, {}, 0.35);
+  EXPECT_EQ(q.alpha, (std::vector<double>{0.35, 0.35, 0.35, 0.35, 1.0}));
+  detail::describeResult(m.points, result, m.faces, rings, 0.1, q, std::vector<double>(by_faces));
+  EXPECT_EQ(q.alpha, by_faces);
+  detail::describeResult(m.points, result, m.faces, rings, 0.1, q); // no patch update ran
+  EXPECT_EQ(q.alpha, std::vector<double>(5, 1.0));
 }
 
 // What the feature mode stores as Alpha is the α its patch fits used: the default's 1, the user's
@@ -478,7 +485,8 @@ TEST(FeatureSmoothStages, VertexUpdateOntoPlanesOrPatchesAndThePatchesAlpha) {
     detail::featureVertexUpdate(use_patches, noisy, setup, params, current, b, report);
     EXPECT_NE(current, noisy.points);
     EXPECT_EQ(b.next, noisy.points); // the positions before, swapped out
-    EXPECT_EQ(b.vertex_alpha, use_patches ? std::vector<double>(n, 0.8) : std::vector<double>());
+    EXPECT_TRUE(b.vertex_alpha.empty()); // the override: one value
+    EXPECT_EQ(b.uniform_alpha, use_patches ? 0.8 : 1.0);
     EXPECT_EQ(b.centroid.size(), use_patches ? 0u : noisy.faces.size());
     EXPECT_EQ(b.patches.size(), use_patches ? noisy.faces.size() : 0u);
   }
