@@ -251,30 +251,33 @@ inline bool restoreVolume(std::vector<Vec3> &points, const std::vector<Face> &fa
   return true;
 }
 
-// Describes a result with the same per-vertex quantities as the other modes (curvatures and
-// saliency of the result, displacement from the input) and the α its patch fits used:
-// `vertex_alpha` when it holds one value per vertex (the paper's rule, vertexAlphaOfPatches), else
-// `uniform_alpha` at every vertex with faces (the user's override; 1 where no patch update ran),
-// made after the saliency so that it does not add to the run's peak. Returns how many vertices
-// moved.
-inline long describeResult(const std::vector<Vec3> &input, const std::vector<Vec3> &result,
-                           const std::vector<Face> &faces, const Rings &rings,
-                           double saliency_scale, VertexQuantities &quantities,
-                           std::vector<double> &&vertex_alpha = {}, double uniform_alpha = 1.0) {
+// The α a driver's patch fits used, for the "Alpha" attribute: per vertex under the paper's
+// saliency rule (vertexAlphaOfPatches), else one value (the user's override; 1 where no patch
+// update ran), spread over the vertices with faces only when the result is described, so that it
+// does not add to the run's peak.
+struct PatchAlpha {
+  std::vector<double> per_vertex;
+  double uniform = 1.0;
+  void record(const Rings &rings, const std::vector<double> &face_alpha, double alpha);
+};
+
+// The result's quantities from its analysis (curvatures, saliency) and the patches' α, and its
+// displacement from the input. Returns how many vertices moved.
+inline long storeResultQuantities(const std::vector<Vec3> &input, const std::vector<Vec3> &result,
+                                  const Rings &rings, SurfaceAnalysis &&analysis,
+                                  PatchAlpha &&alpha, VertexQuantities &quantities) {
   const int n = int(result.size());
-  SurfaceAnalysis analysis;
-  analyseSurface(result, faces, rings, saliency_scale, analysis, /*with_directions=*/false);
   quantities.saliency = std::move(analysis.saliency);
   quantities.k1 = std::move(analysis.curvature.k1);
   quantities.k2 = std::move(analysis.curvature.k2);
   quantities.mean = std::move(analysis.curvature.mean);
   quantities.gauss = std::move(analysis.curvature.gauss);
-  if (vertex_alpha.size() == size_t(n)) {
-    quantities.alpha = std::move(vertex_alpha);
+  if (alpha.per_vertex.size() == size_t(n)) {
+    quantities.alpha = std::move(alpha.per_vertex);
   } else {
     quantities.alpha.assign(n, 1.0);
     for (int v = 0; v < n; ++v)
-      if (rings.facesBegin(v) != rings.facesEnd(v)) quantities.alpha[v] = uniform_alpha;
+      if (rings.facesBegin(v) != rings.facesEnd(v)) quantities.alpha[v] = alpha.uniform;
   }
   quantities.displacement.assign(n, 0.0);
   long moved = 0;
@@ -283,6 +286,19 @@ inline long describeResult(const std::vector<Vec3> &input, const std::vector<Vec
     moved += quantities.displacement[i] > 0;
   }
   return moved;
+}
+
+// Describes a result with the same per-vertex quantities as the other modes (curvatures and
+// saliency of the result, displacement from the input, the α its patch fits used). Returns how
+// many vertices moved.
+inline long describeResult(const std::vector<Vec3> &input, const std::vector<Vec3> &result,
+                           const std::vector<Face> &faces, const Rings &rings,
+                           double saliency_scale, VertexQuantities &quantities,
+                           PatchAlpha &&alpha = {}) {
+  SurfaceAnalysis analysis;
+  analyseSurface(result, faces, rings, saliency_scale, analysis, /*with_directions=*/false);
+  return storeResultQuantities(input, result, rings, std::move(analysis), std::move(alpha),
+                               quantities);
 }
 
 // What the drivers set up once per run: topology, which vertices may move (not frozen, selected
@@ -337,16 +353,15 @@ template <class Report> void reportSetup(const DriverSetup &setup, Report &repor
 }
 
 // A driver's last step: the result's quantities for inspection (describeResult, timed, with the
-// α its patch fits used: `vertex_alpha` or `uniform_alpha`), its volume, and the result handed to
-// the caller (`result` is left empty).
+// α its patch fits used), its volume, and the result handed to the caller (`result` is left
+// empty).
 template <class Report>
 void finishDriver(const MeshArrays &mesh, const Rings &rings, double saliency_scale,
                   std::vector<Vec3> &result, std::vector<Vec3> &out_points,
-                  VertexQuantities &quantities, Report &report,
-                  std::vector<double> &&vertex_alpha = {}, double uniform_alpha = 1.0) {
+                  VertexQuantities &quantities, Report &report, PatchAlpha &&alpha = {}) {
   const auto start = std::chrono::steady_clock::now();
   report.vertices_moved = describeResult(mesh.points, result, mesh.faces, rings, saliency_scale,
-                                         quantities, std::move(vertex_alpha), uniform_alpha);
+                                         quantities, std::move(alpha));
   report.seconds_quantities =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   report.volume_after = signedVolume(result, mesh.faces);
@@ -452,7 +467,7 @@ inline std::vector<double> saliencyFaceAlpha(const std::vector<Vec3> &points,
 // Per vertex, the α the patch fits of its faces used under the paper's saliency rule, for
 // inspection (the "Alpha" attribute): the mean of `face_alpha` (saliencyFaceAlpha) over the
 // vertex's faces, 1 for a vertex without faces. A vertex's last update moved it onto these faces'
-// patches. (Under the user's override every patch has the one α: describeResult's uniform_alpha.)
+// patches. (Under the user's override every patch has the one α: PatchAlpha::uniform.)
 inline std::vector<double> vertexAlphaOfPatches(const Rings &rings,
                                                 const std::vector<double> &face_alpha) {
   const int n = rings.vertex_count;
@@ -467,6 +482,12 @@ inline std::vector<double> vertexAlphaOfPatches(const Rings &rings,
     out[v] = sum / count;
   }
   return out;
+}
+
+inline void PatchAlpha::record(const Rings &rings, const std::vector<double> &face_alpha,
+                              double alpha) {
+  if (face_alpha.empty()) uniform = alpha;
+  else per_vertex = vertexAlphaOfPatches(rings, face_alpha);
 }
 
 // Gives a closed mesh its input volume back by offsets along the vertex normals of the movable

@@ -300,10 +300,7 @@ struct FeaturePassBuffers {
   FacePatches patches;
   std::vector<SymmetricMatrix3> tangent_projector;
   std::vector<std::uint8_t> relax, relax_scratch, folded;
-  // The α of the patch update's fits, for inspection: per vertex under the paper's rule, else one
-  // value (1 while no patch update ran).
-  std::vector<double> vertex_alpha;
-  double uniform_alpha = 1.0;
+  PatchAlpha alpha; // the α of the patch update's fits, for inspection
   explicit FeaturePassBuffers(int n) : relax(n, 1), relax_scratch(n, 1) {}
   // What the vertex updates alone read, before the next pass's filter.
   void releaseVertexStage() {
@@ -314,12 +311,9 @@ struct FeaturePassBuffers {
   }
   // Everything but the α for inspection, before the result quantities.
   void releaseAll() {
+    releaseVertexStage();
     std::vector<Vec3>().swap(filtered);
-    std::vector<Vec3>().swap(next);
-    std::vector<Vec3>().swap(vertex_normals);
-    std::vector<Vec3>().swap(centroid);
     patches = FacePatches();
-    std::vector<SymmetricMatrix3>().swap(tangent_projector);
   }
 };
 
@@ -375,8 +369,7 @@ inline void featureVertexUpdate(bool use_patches, const MeshArrays &mesh, const 
                                                   params.saliency_scale * setup.stats.bbox_diagonal);
     report.plane_fallbacks += fitFacePatches(current, mesh.faces, setup.face_rings, b.filtered,
                                              edge, params.patches, face_alpha, b.patches);
-    if (face_alpha.empty()) b.uniform_alpha = params.patches.alpha;
-    else b.vertex_alpha = vertexAlphaOfPatches(rings, face_alpha);
+    b.alpha.record(rings, face_alpha, params.patches.alpha);
   } else {
     computeFaceCentroids(current, mesh.faces, b.centroid);
   }
@@ -483,7 +476,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   b.releaseAll();
   setup.face_rings = FaceRings();
   finishDriver(mesh, rings, params.saliency_scale * setup.stats.bbox_diagonal, current, out_points,
-               quantities, report, std::move(b.vertex_alpha), b.uniform_alpha);
+               quantities, report, std::move(b.alpha));
   return report;
 }
 

@@ -168,14 +168,12 @@ inline void organicAmount(const MeshArrays &mesh, DriverSetup &setup,
 // (measured with the earlier 0.5/-0.53 bands: lion head 7.17 -> 7.01 with two updates, armadillo
 // 10.57 -> 10.94): each update moves the vertices the fraction of the way onto their patches that
 // the band shrinkage found the mesh smooth (report.patch_step), so the result changes continuously
-// with that measurement. Then the input volume on a closed mesh. `vertex_alpha` (the paper's
-// rule) or `uniform_alpha` (the override): the fits' α, for inspection. Returns false when
-// `update_done(update, count)` cancels.
+// with that measurement. Then the input volume on a closed mesh. `alpha`: the fits' α, for
+// inspection. Returns false when `update_done(update, count)` cancels.
 template <class UpdateDone>
 bool organicPatchUpdates(const MeshArrays &mesh, DriverSetup &setup,
                          const OrganicSmoothParams &params, std::vector<Vec3> &current,
-                         std::vector<double> &vertex_alpha, double &uniform_alpha,
-                         OrganicSmoothReport &report,
+                         PatchAlpha &alpha, OrganicSmoothReport &report,
                          UpdateDone update_done) {
   const Rings &rings = setup.rings;
   std::vector<Vec3> next(current), vertex_normals, face_normals;
@@ -196,8 +194,7 @@ bool organicPatchUpdates(const MeshArrays &mesh, DriverSetup &setup,
     const long fallbacks = fitFacePatches(current, mesh.faces, rings, face_normals,
                                           setup.stats.mean_edge_length, params.patches,
                                           face_alpha, patches);
-    if (face_alpha.empty()) uniform_alpha = params.patches.alpha;
-    else vertex_alpha = vertexAlphaOfPatches(rings, face_alpha);
+    alpha.record(rings, face_alpha, params.patches.alpha);
     if (report.boundary_vertices)
       computeBoundaryVertexNormals(current, mesh.faces, rings, vertex_normals);
     const long rejected =
@@ -239,10 +236,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
 
   std::vector<Vec3> current = mesh.points;
   const bool noisy = report.amount > 0 && setup.stats.mean_edge_length > 0;
-  // The α of the patch update's fits, for inspection: per vertex under the paper's rule, else one
-  // value (1 when no patch update ran).
-  std::vector<double> vertex_alpha;
-  double uniform_alpha = 1.0;
+  detail::PatchAlpha alpha; // the α of the patch update's fits, for inspection
   if (progress && !progress(6, noisy ? "Band shrinkage" : "The mesh measures as clean"))
     return report.cancelled = true, report;
   if (noisy) {
@@ -262,7 +256,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
     if (report.bands.cancelled) return report.cancelled = true, report;
 
     t = clock::now();
-    if (!organicPatchUpdates(mesh, setup, params, current, vertex_alpha, uniform_alpha, report,
+    if (!organicPatchUpdates(mesh, setup, params, current, alpha, report,
                              [&](int update, int count) {
                                return !progress ||
                                       progress(80 + 10 * (update + 1) / count, "Patch update");
@@ -275,7 +269,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   // Only the result and the rings are read from here on (feature_smooth.h: the same).
   setup.face_rings = FaceRings();
   detail::finishDriver(mesh, rings, params.saliency_scale * setup.stats.bbox_diagonal, current,
-                       out_points, quantities, report, std::move(vertex_alpha), uniform_alpha);
+                       out_points, quantities, report, std::move(alpha));
   return report;
 }
 

@@ -298,7 +298,8 @@ bool paperVertexSweep(const MeshArrays &mesh, const DriverSetup &setup,
 }
 
 // The result's quantities, as the other methods describe theirs (Lee et al.'s saliency of the
-// mean curvature, surface_analysis.h), with the α of the last iteration's placements; its volume.
+// mean curvature, surface_analysis.h; the curvatures without directions, which are not stored),
+// with the α of the last iteration's placements; its volume.
 inline void describePaperResult(const MeshArrays &mesh, const Rings &rings,
                                 const std::vector<Vec3> &result, double saliency_scale,
                                 const SmoothParams &params, SurfaceAnalysis &analysis,
@@ -306,24 +307,16 @@ inline void describePaperResult(const MeshArrays &mesh, const Rings &rings,
                                 SmoothReport &report) {
   using clock = std::chrono::steady_clock;
   auto t = clock::now();
-  computeCurvature(result, mesh.faces, rings, analysis.curvature);
+  computeCurvature(result, mesh.faces, rings, analysis.curvature, /*with_directions=*/false);
   report.seconds_curvature += std::chrono::duration<double>(clock::now() - t).count();
   t = clock::now();
   computeSaliency(result, rings, analysis.curvature.mean, saliency_scale, analysis.saliency,
                   params.saliency);
   report.seconds_saliency += std::chrono::duration<double>(clock::now() - t).count();
-  const int n = int(result.size());
-  quantities.saliency = std::move(analysis.saliency);
-  quantities.k1 = std::move(analysis.curvature.k1);
-  quantities.k2 = std::move(analysis.curvature.k2);
-  quantities.mean = std::move(analysis.curvature.mean);
-  quantities.gauss = std::move(analysis.curvature.gauss);
-  quantities.alpha = std::move(alpha);
-  quantities.displacement.assign(n, 0.0);
-  for (int i = 0; i < n; ++i) {
-    quantities.displacement[i] = (result[i] - mesh.points[i]).norm();
-    report.vertices_moved += quantities.displacement[i] > 0;
-  }
+  PatchAlpha used;
+  used.per_vertex = std::move(alpha);
+  report.vertices_moved += storeResultQuantities(mesh.points, result, rings, std::move(analysis),
+                                                 std::move(used), quantities);
   report.volume_after = signedVolume(result, mesh.faces);
 }
 

@@ -796,23 +796,21 @@ TEST(OrganicSmoothStages, PatchUpdatesGoTheMeasuredStepAndStopWhenCancelled) {
     report.bands.detail = detail_share;
     report.closed = true;
     std::vector<Vec3> current = noisy.points;
-    std::vector<double> alpha;
-    double uniform_alpha = 1.0;
+    detail::PatchAlpha alpha;
     int calls = 0;
-    EXPECT_TRUE(detail::organicPatchUpdates(noisy, setup, params, current, alpha, uniform_alpha,
-                                            report, [&](int, int) { return ++calls, true; }));
+    EXPECT_TRUE(detail::organicPatchUpdates(noisy, setup, params, current, alpha, report,
+                                            [&](int, int) { return ++calls, true; }));
     EXPECT_EQ(report.patch_step, 1.0 - detail_share);
     EXPECT_EQ(calls, detail_share < 1 ? params.max_patch_updates : 0);
     EXPECT_EQ(current == noisy.points, detail_share == 1.0);
-    EXPECT_TRUE(alpha.empty()); // the override (the default): one value
-    EXPECT_EQ(uniform_alpha, params.patches.alpha);
+    EXPECT_TRUE(alpha.per_vertex.empty()); // the override (the default): one value
+    EXPECT_EQ(alpha.uniform, detail_share < 1 ? params.patches.alpha : 1.0);
   }
   detail::DriverSetup setup = detail::driverSetup(noisy, false);
   OrganicSmoothReport report;
   report.bands.detail = 0.5;
   std::vector<Vec3> current = noisy.points;
-  std::vector<double> alpha;
-  double uniform_alpha = 1.0;
-  EXPECT_FALSE(detail::organicPatchUpdates(noisy, setup, params, current, alpha, uniform_alpha,
-                                           report, [](int, int) { return false; }));
+  detail::PatchAlpha alpha;
+  EXPECT_FALSE(detail::organicPatchUpdates(noisy, setup, params, current, alpha, report,
+                                           [](int, int) { return false; }));
 }

@@ -386,9 +386,13 @@ TEST(DriverStages, VertexAlphaIsTheMeanOfItsFacesOrTheOverride) {
   EXPECT_EQ(by_faces, (std::vector<double>{0.2, 0.4, 0.4, 0.6, 1.0}));
   std::vector<Vec3> result = m.points;
   VertexQuantities q;
-  detail::describeResult(m.points, result, m.faces, rings, 0.1, q, {}, 0.35);
+  detail::PatchAlpha override;
+  override.record(rings, {}, 0.35); // the user's α: one value
+  detail::describeResult(m.points, result, m.faces, rings, 0.1, q, std::move(override));
   EXPECT_EQ(q.alpha, (std::vector<double>{0.35, 0.35, 0.35, 0.35, 1.0}));
-  detail::describeResult(m.points, result, m.faces, rings, 0.1, q, std::vector<double>(by_faces));
+  detail::PatchAlpha rule;
+  rule.record(rings, {0.2, 0.6}, 0.9); // the paper's rule: per face
+  detail::describeResult(m.points, result, m.faces, rings, 0.1, q, std::move(rule));
   EXPECT_EQ(q.alpha, by_faces);
   detail::describeResult(m.points, result, m.faces, rings, 0.1, q); // no patch update ran
   EXPECT_EQ(q.alpha, std::vector<double>(5, 1.0));
@@ -485,8 +489,8 @@ TEST(FeatureSmoothStages, VertexUpdateOntoPlanesOrPatchesAndThePatchesAlpha) {
     detail::featureVertexUpdate(use_patches, noisy, setup, params, current, b, report);
     EXPECT_NE(current, noisy.points);
     EXPECT_EQ(b.next, noisy.points); // the positions before, swapped out
-    EXPECT_TRUE(b.vertex_alpha.empty()); // the override: one value
-    EXPECT_EQ(b.uniform_alpha, use_patches ? 0.8 : 1.0);
+    EXPECT_TRUE(b.alpha.per_vertex.empty()); // the override: one value
+    EXPECT_EQ(b.alpha.uniform, use_patches ? 0.8 : 1.0);
     EXPECT_EQ(b.centroid.size(), use_patches ? 0u : noisy.faces.size());
     EXPECT_EQ(b.patches.size(), use_patches ? noisy.faces.size() : 0u);
   }
