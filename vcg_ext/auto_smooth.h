@@ -55,6 +55,14 @@ struct AutoSmoothReport {
 
 namespace detail {
 
+// Whether evidence `e` says the mesh has sharp features (AutoSmoothParams' thresholds), each share
+// measured against its threshold plus a margin (negative: minus).
+inline bool hasSharpFeatures(const SharpFeatureEvidence &e, const AutoSmoothParams &params,
+                             double flat_margin = 0, double confirmed_margin = 0) {
+  return e.flat_share >= params.feature_flat_share + flat_margin ||
+         e.confirmed_share >= params.feature_confirmed_share + confirmed_margin;
+}
+
 // The choice on windows of the mesh when their evidence is clear (AutoSmoothParams::windows):
 // true when it decided (report.windowed, report.evidence, report.chose_feature).
 inline bool decideOnWindows(const MeshArrays &mesh, const AutoSmoothParams &params,
@@ -64,7 +72,7 @@ inline bool decideOnWindows(const MeshArrays &mesh, const AutoSmoothParams &para
   if (params.windows.max_windows <= 0 || counts.normal_iterations <= 0 ||
       !(setup.stats.mean_edge_length > 0))
     return false;
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   FirstPassCounts first;
   first.prepass_pairs = counts.prepass_pairs;
   first.reference_pairs = params.reference_pairs;
@@ -72,17 +80,14 @@ inline bool decideOnWindows(const MeshArrays &mesh, const AutoSmoothParams &para
   first.first.iterations = counts.checkIterations(params.feature);
   const WindowedEvidence w = windowedEvidence(mesh, setup, first, params.crease_deg,
                                               params.confirm_deg, params.flat_deg, params.windows);
-  report.seconds_windows =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.seconds_windows = secondsSince(start);
   if (!w.used) return false;
   const SharpFeatureEvidence &e = w.evidence;
   const double flat_margin = std::max(params.window_margin, params.window_errors * w.flat_error),
                confirmed_margin =
                    std::max(params.window_margin, params.window_errors * w.confirmed_error);
-  const bool feature = e.flat_share >= params.feature_flat_share + flat_margin ||
-                       e.confirmed_share >= params.feature_confirmed_share + confirmed_margin;
-  const bool organic = e.flat_share < params.feature_flat_share - flat_margin &&
-                       e.confirmed_share < params.feature_confirmed_share - confirmed_margin;
+  const bool feature = hasSharpFeatures(e, params, flat_margin, confirmed_margin);
+  const bool organic = !hasSharpFeatures(e, params, -flat_margin, -confirmed_margin);
   if (!feature && !organic) return false;
   report.decided = report.windowed = true;
   report.chose_feature = feature;
@@ -93,58 +98,91 @@ inline bool decideOnWindows(const MeshArrays &mesh, const AutoSmoothParams &para
   return true;
 }
 
+// The face normals of the plainly smoothed copy that confirms creases (AutoSmoothParams::
+// reference_pairs Taubin pairs on the input). When the pre-pass ran the same pairs on the same
+// input (at full roughness and strength), its positions are that copy, bit for bit.
+inline void referenceNormals(const MeshArrays &mesh, const DriverSetup &setup,
+                             const std::vector<Vec3> &prepassed, int prepass_pairs,
+                             int reference_pairs, std::vector<Vec3> &normals) {
+  if (prepass_pairs == reference_pairs) return computeFaceNormals(prepassed, mesh.faces, normals);
+  std::vector<Vec3> smoothed = mesh.points;
+  taubinSmooth(smoothed, setup.rings, setup.fixed, setup.roles.boundary_neighbours,
+               reference_pairs);
+  computeFaceNormals(smoothed, mesh.faces, normals);
+}
+
+// The choice on the whole mesh, from the feature mode's first-pass normals `filtered` (its
+// FilteredNormalsCheck): fills report.evidence, decided and chose_feature; true for the feature
+// mode.
+inline bool decideOnFirstPass(const MeshArrays &mesh, const AutoSmoothParams &params,
+                              const DriverSetup &setup, const std::vector<Vec3> &filtered,
+                              const std::vector<Vec3> &prepassed, int prepass_pairs,
+                              AutoSmoothReport &report) {
+  const auto start = Clock::now();
+  std::vector<Vec3> reference;
+  referenceNormals(mesh, setup, prepassed, prepass_pairs, params.reference_pairs, reference);
+  report.evidence = modelScaleEvidence(filtered, reference, setup.face_rings, mesh.points,
+                                       mesh.faces, params.crease_deg, params.confirm_deg,
+                                       params.flat_deg);
+  report.seconds_reference = secondsSince(start);
+  report.decided = true;
+  report.chose_feature = hasSharpFeatures(report.evidence, params);
+  return report.chose_feature;
+}
+
+// The organic mode's parameters in the automatic mode: on the feature mode's set-up, so with its
+// selection and boundary mode.
+inline OrganicSmoothParams organicParamsOf(const AutoSmoothParams &params) {
+  OrganicSmoothParams organic = params.organic;
+  organic.selected_only = params.feature.selected_only;
+  organic.boundary = params.feature.boundary;
+  return organic;
+}
+
+// `progress` with the percentages 0-100 mapped onto from-100 (none when `progress` is none).
+inline ProgressFn progressFrom(int from, const ProgressFn &progress) {
+  if (!progress) return ProgressFn();
+  return [from, progress](int percent, const char *stage) {
+    return progress(from + percent * (100 - from) / 100, stage);
+  };
+}
+
+// The mode chosen on windows, run alone.
+inline void runChosenMode(const MeshArrays &mesh, const AutoSmoothParams &params,
+                          DriverSetup &setup, std::vector<Vec3> &out_points,
+                          VertexQuantities &quantities, const ProgressFn &progress,
+                          AutoSmoothReport &report) {
+  if (report.chose_feature) {
+    report.feature = featureSmoothAsGiven(mesh, params.feature, out_points, quantities, progress,
+                                          nullptr, &setup);
+    report.cancelled = report.feature.cancelled;
+  } else {
+    report.organic = organicSmoothAsGiven(mesh, organicParamsOf(params), out_points, quantities,
+                                          progress, &setup);
+    report.cancelled = report.organic.cancelled;
+  }
+}
+
 inline AutoSmoothReport autoSmoothAsGiven(const MeshArrays &mesh, const AutoSmoothParams &params,
                                           std::vector<Vec3> &out_points,
                                           VertexQuantities &quantities,
                                           const ProgressFn &progress) {
   AutoSmoothReport report;
-  const bool selected_only = params.feature.selected_only;
-  const auto start = std::chrono::steady_clock::now();
-  detail::DriverSetup setup = detail::driverSetup(mesh, selected_only, params.feature.boundary);
-  report.seconds_setup =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  OrganicSmoothParams organic_params = params.organic;
-  organic_params.selected_only = selected_only; // one set-up serves both drivers
-  organic_params.boundary = params.feature.boundary;
+  const auto start = Clock::now();
+  detail::DriverSetup setup =
+      detail::driverSetup(mesh, params.feature.selected_only, params.feature.boundary);
+  report.seconds_setup = secondsSince(start);
   if (progress && !progress(1, "Choosing the mode")) return report.cancelled = true, report;
   if (decideOnWindows(mesh, params, setup, report)) {
-    if (report.chose_feature) {
-      report.feature = featureSmoothAsGiven(mesh, params.feature, out_points, quantities, progress,
-                                            nullptr, &setup);
-      report.cancelled = report.feature.cancelled;
-    } else {
-      report.organic = organicSmoothAsGiven(mesh, organic_params, out_points, quantities, progress,
-                                            &setup);
-      report.cancelled = report.organic.cancelled;
-    }
+    runChosenMode(mesh, params, setup, out_points, quantities, progress, report);
     return report;
   }
   // Both drivers report 0-99 %; the feature mode's first pass is the first part of either path.
   report.feature = featureSmoothAsGiven(
       mesh, params.feature, out_points, quantities, progress,
       [&](const std::vector<Vec3> &filtered, const std::vector<Vec3> &prepassed,
-          int prepass_pairs, const detail::DriverSetup &) {
-        const auto reference_start = std::chrono::steady_clock::now();
-        std::vector<Vec3> reference_normals;
-        if (prepass_pairs == params.reference_pairs) {
-          // The pre-pass ran the same pairs on the same input (at full roughness and strength):
-          // its positions are the reference, bit for bit.
-          computeFaceNormals(prepassed, mesh.faces, reference_normals);
-        } else {
-          std::vector<Vec3> smoothed = mesh.points;
-          taubinSmooth(smoothed, setup.rings, setup.fixed, setup.roles.boundary_neighbours,
-                       params.reference_pairs);
-          computeFaceNormals(smoothed, mesh.faces, reference_normals);
-        }
-        report.evidence = modelScaleEvidence(filtered, reference_normals, setup.face_rings,
-                                             mesh.points, mesh.faces, params.crease_deg,
-                                             params.confirm_deg, params.flat_deg);
-        report.seconds_reference =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - reference_start).count();
-        report.decided = true;
-        report.chose_feature = report.evidence.flat_share >= params.feature_flat_share ||
-                               report.evidence.confirmed_share >= params.feature_confirmed_share;
-        return report.chose_feature;
+          int prepass_pairs, const detail::DriverSetup &given) {
+        return decideOnFirstPass(mesh, params, given, filtered, prepassed, prepass_pairs, report);
       },
       &setup);
   if (report.feature.cancelled) return report.cancelled = true, report;
@@ -153,14 +191,8 @@ inline AutoSmoothReport autoSmoothAsGiven(const MeshArrays &mesh, const AutoSmoo
     return report;
   }
   // The decision took the feature mode's first pass (about a fifth of its progress range).
-  const int decided = 20;
-  report.organic = organicSmoothAsGiven(
-      mesh, organic_params, out_points, quantities,
-      progress ? ProgressFn([&](int percent, const char *stage) {
-        return progress(decided + percent * (100 - decided) / 100, stage);
-      })
-               : ProgressFn(),
-      &setup);
+  report.organic = organicSmoothAsGiven(mesh, organicParamsOf(params), out_points, quantities,
+                                        progressFrom(20, progress), &setup);
   report.cancelled = report.organic.cancelled;
   return report;
 }
@@ -178,6 +210,43 @@ inline AutoSmoothReport autoSmoothMesh(const MeshArrays &mesh, const AutoSmoothP
                                 });
 }
 
+namespace detail {
+
+// Why the automatic mode chose as it did, for its log line: the two shares (on windows with their
+// standard errors and how much of the mesh the windows held).
+inline std::string evidencePhrase(const AutoSmoothReport &r, size_t faces) {
+  const std::string flat_what =
+      r.evidence.flat_stride > 1
+          ? formatLine("face pairs %.0f edges apart", double(r.evidence.flat_stride))
+          : "the edges";
+  auto error = [&](double e) { return r.windowed ? formatLine(" ± %.3f", e) : std::string(); };
+  const std::string sample =
+      r.windowed ? formatLine(", on windows holding %.0f %% of the faces",
+                              100.0 * double(r.window_faces) / double(faces))
+                 : std::string();
+  return formatLine("%.3f%s of %s flat and %.3f%s of the creases confirmed after guided filtering%s",
+                    r.evidence.flat_share, error(r.flat_error).c_str(), flat_what.c_str(),
+                    r.evidence.confirmed_share, error(r.confirmed_error).c_str(), sample.c_str());
+}
+
+// The decision's own time: on windows, or (the whole mesh) the feature mode's first pass, which
+// the organic mode's log names since its own report does not hold it.
+inline std::string decisionTimeLine(const AutoSmoothReport &r) {
+  if (r.windowed)
+    return formatLine("Time of the decision: shared topology %.3f s, evidence on windows %.3f s.",
+                      r.seconds_setup, r.seconds_windows);
+  if (r.chose_feature)
+    return formatLine("Time of the decision: shared topology %.3f s, Taubin copy and evidence "
+                      "%.3f s.",
+                      r.seconds_setup, r.seconds_reference);
+  return formatLine("Time of the decision: shared topology %.3f s, the feature mode's pre-pass and "
+                    "first normal filter iterations %.3f s, Taubin copy and evidence %.3f s.",
+                    r.seconds_setup, r.feature.seconds_prepass + r.feature.seconds_normals,
+                    r.seconds_reference);
+}
+
+} // namespace detail
+
 // The automatic method as the filter runs it (methods.h): the log names the mode it chose and why.
 inline MethodRun automaticMethod(const MeshArrays &mesh, const MethodParams &p,
                                  std::vector<Vec3> &out_points, VertexQuantities &quantities,
@@ -189,7 +258,6 @@ inline MethodRun automaticMethod(const MeshArrays &mesh, const MethodParams &p,
   MethodRun run;
   run.cancelled = r.cancelled;
   if (r.cancelled) return run;
-  using detail::formatLine;
   if (!r.decided) {
     run.method = "none (clean)";
     run.roughness = r.feature.roughness;
@@ -197,55 +265,19 @@ inline MethodRun automaticMethod(const MeshArrays &mesh, const MethodParams &p,
     run.details = detail::featureDetails(r.feature);
     return run;
   }
-  const std::string flat_what =
-      r.evidence.flat_stride > 1
-          ? formatLine("face pairs %.0f edges apart", double(r.evidence.flat_stride))
-          : "the edges";
-  // On windows: each share with its standard error as a sample, and how much of the mesh it read.
-  auto error = [&](double e) { return r.windowed ? formatLine(" ± %.3f", e) : std::string(); };
-  const std::string sample =
-      r.windowed ? formatLine(", on windows holding %.0f %% of the faces",
-                              100.0 * double(r.window_faces) / double(mesh.faces.size()))
-                 : std::string();
-  const std::string why = formatLine(
-      "%.3f%s of %s flat and %.3f%s of the creases confirmed after guided filtering%s",
-      r.evidence.flat_share, error(r.flat_error).c_str(), flat_what.c_str(),
-      r.evidence.confirmed_share, error(r.confirmed_error).c_str(), sample.c_str());
-  // The decision's own time: on windows, or the feature mode's first pass on the whole mesh.
-  const std::string decision_time =
-      r.windowed ? formatLine("Time of the decision: shared topology %.3f s, evidence on windows "
-                              "%.3f s.",
-                              r.seconds_setup, r.seconds_windows)
-                 : std::string();
+  const std::string why = detail::evidencePhrase(r, mesh.faces.size());
   if (r.chose_feature) {
-    run.method = "feature-preserving";
-    run.method_index = 3; // methods.h
-    run.roughness = r.feature.roughness;
-    detail::measureMovement(quantities, r.feature.mean_edge_length, run);
+    run = detail::measuredRun(r.feature, "feature-preserving", 3, quantities); // (methods.h)
     run.summary = "Automatic (sharp features: " + why + ") -> " +
                   detail::featureSummary(r.feature, params.feature, run, mesh.points.size());
     run.details = detail::featureDetails(r.feature);
-    run.details.push_back(r.windowed ? decision_time
-                                     : formatLine("Time of the decision: shared topology %.3f s, "
-                                                  "Taubin copy and evidence %.3f s.",
-                                                  r.seconds_setup, r.seconds_reference));
   } else {
-    run.method = "organic";
-    run.method_index = 4; // methods.h
-    run.roughness = r.organic.roughness;
-    detail::measureMovement(quantities, r.organic.mean_edge_length, run);
+    run = detail::measuredRun(r.organic, "organic", 4, quantities);
     run.summary = "Automatic (no sharp features: " + why + ") -> " +
                   detail::organicSummary(r.organic, params.organic, run, mesh.points.size());
     run.details = detail::organicDetails(r.organic);
-    run.details.push_back(
-        r.windowed ? decision_time
-                   : formatLine("Time of the decision: shared topology %.3f s, the feature mode's "
-                                "pre-pass and first normal filter iterations %.3f s, Taubin copy "
-                                "and evidence %.3f s.",
-                                r.seconds_setup,
-                                r.feature.seconds_prepass + r.feature.seconds_normals,
-                                r.seconds_reference));
   }
+  run.details.push_back(detail::decisionTimeLine(r));
   return run;
 }
 

@@ -408,9 +408,57 @@ struct BandScaleSpace {
   std::vector<double> noise_energy, noise_trimmed;
 };
 
+// One band's step of the scale space: `coarse` and `probe` smoothed by `pairs` more Taubin pairs
+// (as a Chebyshev series of them where that pays, taubin_chebyshev.h), their values before the
+// step left in `previous` and `probe_previous`. Boundary vertices stay from `boundary_still` on.
+inline void stepBand(const SpatialTaubin &taubin, const BandShrinkParams &params, int pairs,
+                     bool boundary_still, std::vector<Vec3> &coarse, std::vector<Vec3> &previous,
+                     std::vector<Vec3f> &probe, std::vector<Vec3f> &probe_previous) {
+  const std::vector<double> series =
+      params.chebyshev
+          ? taubinChebyshevCoefficients(pairs, params.lambda, params.mu, params.chebyshev_tolerance)
+          : std::vector<double>();
+  if (params.chebyshev && chebyshevPays(series, pairs)) {
+    taubin.applyChebyshev({&coarse}, {&previous}, {&probe}, {&probe_previous}, series,
+                          boundary_still);
+    coarse.swap(previous);
+    probe.swap(probe_previous);
+  } else {
+    previous = coarse;
+    probe_previous = probe;
+    taubin.smooth({&coarse}, {&probe}, pairs, params.lambda, params.mu, boundary_still);
+  }
+}
+
+// The probe's energy in band `b` (its step from `probe_previous` to `probe`) into
+// space.noise_energy[b], summed over the counted vertices, and where trimmedBand its trimmed mean
+// into space.noise_trimmed[b]. Three independent probes in one: the components; a band's noise
+// along the normal has their mean variance. `term` (one per vertex) and `values` are work buffers.
+inline void probeBandEnergy(const SpatialTaubin &taubin, const CountedVertices &cv,
+                            const BandShrinkParams &params, int b,
+                            const std::vector<Vec3f> &probe_previous,
+                            const std::vector<Vec3f> &probe, std::vector<double> &term,
+                            std::vector<double> &values, BandScaleSpace &space) {
+  const int n = int(term.size());
+  const bool trim = trimmedBand(params, b);
+  values.resize(trim ? 3 * size_t(cv.count) : 0);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+  for (int v = 0; v < n; ++v)
+    if (cv.counted[v]) {
+      const int l = taubin.local(v);
+      const Vec3 difference = probe_previous[l].cast<double>() - probe[l].cast<double>();
+      term[v] = difference.squaredNorm() / 3.0;
+      if (trim)
+        for (int k = 0; k < 3; ++k)
+          values[3 * size_t(cv.slot[v]) + k] = difference[k] * difference[k];
+    }
+  space.noise_energy[b] = cv.sum(term);
+  if (trim) space.noise_trimmed[b] = trimmedMean(values, params.robust_quantile);
+}
+
 // Runs the Taubin scale space of `points` and of the probe (stream 0) together, one sweep per
-// step, and the vertex normals at BandShrinkParams::normal_pairs into `normals`. Long bands run
-// as a Chebyshev series of their pairs (taubin_chebyshev.h). False when `progress` cancels.
+// step, and the vertex normals at BandShrinkParams::normal_pairs into `normals`. False when
+// `progress` cancels.
 inline bool buildBandScaleSpace(const std::vector<Vec3> &points, const std::vector<Face> &faces,
                                 const Rings &rings, const SpatialTaubin &taubin,
                                 const NoiseProbe &noise_probe, const CountedVertices &cv,
@@ -419,7 +467,6 @@ inline bool buildBandScaleSpace(const std::vector<Vec3> &points, const std::vect
                                 const std::function<bool(double)> &progress) {
   const std::vector<int> &edges = params.band_pairs;
   const int bands = int(edges.size()) - 1, n = rings.vertex_count;
-  const double lambda = params.lambda, mu = params.mu;
   space.band.assign(bands, {});
   space.noise_energy.assign(bands, 0.0);
   space.noise_trimmed.assign(bands, 0.0);
@@ -433,45 +480,17 @@ inline bool buildBandScaleSpace(const std::vector<Vec3> &points, const std::vect
     std::vector<Vec3> scratch;
     computeVertexNormals(taubin.inGlobalOrder(space.coarse, scratch), faces, rings, normals);
   };
-  taubin.smooth({&space.coarse}, {&probe}, edges[0], lambda, mu);
+  taubin.smooth({&space.coarse}, {&probe}, edges[0], params.lambda, params.mu);
   if (normal_at == 0) take_normals();
   for (int b = 0; b < bands; ++b) {
-    const int pairs = edges[b + 1] - edges[b];
     // Boundary vertices stop following their curve from band `boundary_pairs` on.
-    const bool boundary_still = edges[b] >= params.boundary_pairs;
-    const std::vector<double> series =
-        params.chebyshev ? taubinChebyshevCoefficients(pairs, lambda, mu, params.chebyshev_tolerance)
-                         : std::vector<double>();
-    if (params.chebyshev && chebyshevPays(series, pairs)) {
-      taubin.applyChebyshev({&space.coarse}, {&previous}, {&probe}, {&probe_previous}, series,
-                            boundary_still);
-      space.coarse.swap(previous);
-      probe.swap(probe_previous);
-    } else {
-      previous = space.coarse;
-      probe_previous = probe;
-      taubin.smooth({&space.coarse}, {&probe}, pairs, lambda, mu, boundary_still);
-    }
+    stepBand(taubin, params, edges[b + 1] - edges[b], edges[b] >= params.boundary_pairs,
+             space.coarse, previous, probe, probe_previous);
     space.band[b].resize(n);
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
     for (int l = 0; l < n; ++l) space.band[b][l] = (previous[l] - space.coarse[l]).cast<float>();
     if (normal_at == b + 1 || (b + 1 == bands && normal_at > bands)) take_normals();
-    // Three independent probes in one: the components; a band's noise along the normal has their
-    // mean variance.
-    const bool trim = trimmedBand(params, b);
-    values.resize(trim ? 3 * size_t(cv.count) : 0);
-#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
-    for (int v = 0; v < n; ++v)
-      if (cv.counted[v]) {
-        const int l = taubin.local(v);
-        const Vec3 difference = probe_previous[l].cast<double>() - probe[l].cast<double>();
-        term[v] = difference.squaredNorm() / 3.0;
-        if (trim)
-          for (int k = 0; k < 3; ++k)
-            values[3 * size_t(cv.slot[v]) + k] = difference[k] * difference[k];
-      }
-    space.noise_energy[b] = cv.sum(term);
-    if (trim) space.noise_trimmed[b] = trimmedMean(values, params.robust_quantile);
+    probeBandEnergy(taubin, cv, params, b, probe_previous, probe, term, values, space);
     if (progress && !progress(0.9 * (b + 1) / bands)) return false;
   }
   return true;
@@ -561,6 +580,52 @@ inline void readSpectrum(const std::vector<double> &energy, const std::vector<do
 
 } // namespace detail
 
+namespace detail {
+
+// The mesh-wide gain per band: the Wiener gain that keeps the band's energy beyond α times its
+// noise (the colour's share of it); robust bands count by their energies below the robust
+// quantile (trimmedBand), which spikes do not reach.
+inline std::vector<double> bandGains(const BandScaleSpace &space, const std::vector<double> &energy,
+                                     const std::vector<double> &energy_trimmed, double alpha,
+                                     const BandShrinkParams &params) {
+  std::vector<double> gains(space.band.size());
+  for (int b = 0; b < int(gains.size()); ++b) {
+    const bool trimmed = trimmedBand(params, b);
+    const double noise = trimmed ? space.noise_trimmed[b] : space.noise_energy[b];
+    const double total = trimmed ? energy_trimmed[b] : energy[b];
+    gains[b] = sharedGain(params, b, wienerGain(alpha * bandColour(params, b) * noise, total));
+  }
+  return gains;
+}
+
+// The pairs the local gains cover, for the log: from the first band with local gains to the last.
+inline void noteLocalBands(const std::vector<std::vector<float>> &local,
+                           const std::vector<int> &edges, BandShrinkReport &report) {
+  for (int b = 0; b < int(local.size()); ++b)
+    if (!local[b].empty()) {
+      if (!report.local_to_pairs) report.local_from_pairs = edges[b];
+      report.local_to_pairs = edges[b + 1];
+    }
+}
+
+// The result into `points`: the coarse base plus every band times its gain (the vertex's local
+// gain where the band has them); a vertex whose sum is not finite stays where it was.
+inline void recombineBands(const SpatialTaubin &taubin, const BandScaleSpace &space,
+                           const std::vector<double> &gains,
+                           const std::vector<std::vector<float>> &local, std::vector<Vec3> &points) {
+  const int n = int(points.size()), bands = int(space.band.size());
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+  for (int v = 0; v < n; ++v) {
+    const int l = taubin.local(v);
+    Vec3 p = space.coarse[l];
+    for (int b = 0; b < bands; ++b)
+      p += (local[b].empty() ? gains[b] : double(local[b][l])) * space.band[b][l].cast<double>();
+    if (p.allFinite()) points[v] = p;
+  }
+}
+
+} // namespace detail
+
 // Smooths `points` in place (see the file comment). `progress(fraction)` may return false to
 // cancel; `points` are then left as they were.
 inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::vector<Face> &faces,
@@ -570,13 +635,13 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
                                          const std::function<bool(double)> &progress = nullptr) {
   BandShrinkReport report;
   const int n = rings.vertex_count;
-  const std::vector<int> &edges = params.band_pairs;
-  const int bands = int(edges.size()) - 1;
+  const int bands = int(params.band_pairs.size()) - 1;
   if (bands < 1 || n == 0) return report;
   std::vector<Vec3> normals;
   computeVertexNormals(points, faces, rings, normals);
   report.noise_sigma = detail::bandNoiseSigma(points, rings, fixed, normals, params);
-  if (!(report.noise_sigma > 0)) {
+  const detail::CountedVertices cv(rings, fixed);
+  if (!(report.noise_sigma > 0) || cv.count == 0) {
     report.gains.assign(bands, 1.0);
     return report;
   }
@@ -585,11 +650,6 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   // The scale space and the probe's, one Taubin run for both, in the renumbered order of
   // `taubin`; every sum runs in vertex order.
   const SpatialTaubin taubin(points, rings, fixed, curve, params.given_order);
-  const detail::CountedVertices cv(rings, fixed);
-  if (cv.count == 0) {
-    report.gains.assign(bands, 1.0);
-    return report;
-  }
   const detail::NoiseProbe noise_probe(points, rings, taubin, report.noise_sigma, mean_edge);
   detail::BandScaleSpace space;
   if (!detail::buildBandScaleSpace(points, faces, rings, taubin, noise_probe, cv, params, normals,
@@ -603,34 +663,13 @@ inline BandShrinkReport bandShrinkSmooth(std::vector<Vec3> &points, const std::v
   const double fine_noise = detail::fineBandNoise(taubin, noise_probe, cv, params, fine,
                                                   space.noise_energy[fine], report.fine_band_probes);
   detail::readSpectrum(energy, space.noise_energy, fine, fine_noise, mean_edge, params, report);
-  report.gains.resize(bands);
-  // Per band: the gain keeps the band's energy beyond α times its noise (the colour's share of
-  // it); spikes (robust bands) count by the energies below the robust quantile.
-  for (int b = 0; b < bands; ++b) {
-    const bool trimmed = detail::trimmedBand(params, b);
-    const double noise = trimmed ? space.noise_trimmed[b] : space.noise_energy[b];
-    const double total = trimmed ? energy_trimmed[b] : energy[b];
-    report.gains[b] = detail::sharedGain(
-        params, b, detail::wienerGain(report.alpha * detail::bandColour(params, b) * noise, total));
-  }
+  report.gains = detail::bandGains(space, energy, energy_trimmed, report.alpha, params);
   taubin.releaseBuffers(); // no more steps: the local gains' arrays can take their memory
   const std::vector<std::vector<float>> local =
       detail::localBandGains(taubin, rings, space.band, normals, cv.counted, space.noise_energy,
                              cv.count, report.alpha, params, report.gains);
-  for (int b = 0; b < bands; ++b)
-    if (!local[b].empty()) {
-      if (!report.local_to_pairs) report.local_from_pairs = edges[b];
-      report.local_to_pairs = edges[b + 1];
-    }
-  // Coarse base plus every band times its gain.
-#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
-  for (int v = 0; v < n; ++v) {
-    const int l = taubin.local(v);
-    Vec3 p = space.coarse[l];
-    for (int b = 0; b < bands; ++b)
-      p += (local[b].empty() ? report.gains[b] : double(local[b][l])) * space.band[b][l].cast<double>();
-    if (p.allFinite()) points[v] = p;
-  }
+  detail::noteLocalBands(local, params.band_pairs, report);
+  detail::recombineBands(taubin, space, report.gains, local, points);
   return report;
 }
 

@@ -16,11 +16,11 @@
 #include "normal_filter.h"
 #include "spatial_order.h"
 #include "surface_analysis.h"
+#include "timing.h"
 #include "uniform_curvature.h"
 
 #include <array>
 #include <cstdarg>
-#include <chrono>
 #include <cstdio>
 #include <functional>
 #include <optional>
@@ -124,6 +124,22 @@ inline void measureMovement(const VertexQuantities &q, double mean_edge, MethodR
   for (double d : q.displacement) run.vertices_moved += d > 0, sum += d;
   run.mean_displacement_edges = q.displacement.empty() || !(mean_edge > 0)
                                     ? 0.0 : sum / double(q.displacement.size()) / mean_edge;
+}
+
+// The MethodRun of a driver's run (a report with cancelled, roughness and mean_edge_length): the
+// method's name and index in methods.h' table, the roughness and how far the result moved, or
+// only `cancelled`; the caller adds the log lines.
+template <class Report>
+MethodRun measuredRun(const Report &r, const char *method, int method_index,
+                      const VertexQuantities &q) {
+  MethodRun run;
+  run.cancelled = r.cancelled;
+  if (r.cancelled) return run;
+  run.method = method;
+  run.method_index = method_index;
+  run.roughness = r.roughness;
+  measureMovement(q, r.mean_edge_length, run);
+  return run;
 }
 
 // "6475 of 6475 vertices moved, by 0.21 mean edge lengths on average": what a user checks first.
@@ -359,11 +375,10 @@ template <class Report>
 void finishDriver(const MeshArrays &mesh, const Rings &rings, double saliency_scale,
                   std::vector<Vec3> &result, std::vector<Vec3> &out_points,
                   VertexQuantities &quantities, Report &report, PatchAlpha &&alpha = {}) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   report.vertices_moved = describeResult(mesh.points, result, mesh.faces, rings, saliency_scale,
                                          quantities, std::move(alpha));
-  report.seconds_quantities =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.seconds_quantities = secondsSince(start);
   report.volume_after = signedVolume(result, mesh.faces);
   out_points.swap(result);
   std::vector<Vec3>().swap(result);

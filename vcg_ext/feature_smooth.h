@@ -394,20 +394,16 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
                                                 const ProgressFn &progress = nullptr,
                                                 const FilteredNormalsCheck &first_pass_check = nullptr,
                                                 DriverSetup *given_setup = nullptr) {
-  using clock = std::chrono::steady_clock;
-  auto seconds = [](clock::time_point a) {
-    return std::chrono::duration<double>(clock::now() - a).count();
-  };
   FeatureSmoothReport report;
   const int n = int(mesh.points.size());
-  auto t = clock::now();
+  auto t = Clock::now();
   std::optional<DriverSetup> own_setup;
   if (!given_setup) own_setup.emplace(driverSetup(mesh, params.selected_only, params.boundary));
   DriverSetup &setup = given_setup ? *given_setup : *own_setup;
   ensureFaceRings(mesh, setup);
   const Rings &rings = setup.rings;
   reportSetup(setup, report);
-  report.seconds_topology = seconds(t);
+  report.seconds_topology = secondsSince(t);
   const double edge = setup.stats.mean_edge_length;
   const int outer = std::max(0, params.outer_iterations);
   auto report_progress = [&](int pass, double fraction, const char *stage) {
@@ -417,7 +413,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   };
 
   std::vector<Vec3> current = mesh.points;
-  t = clock::now();
+  t = Clock::now();
   // How much smoothing the mesh needs: the noise estimate's roughness (measuredRoughness: none
   // where it reads clean, light noise and real scans' noise included) scales every pass count.
   // The pre-pass rounds creases that the rest only partly restores, and even one filter
@@ -435,16 +431,16 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   int vertex_iterations = report.vertex_iterations = counts.vertex_iterations;
   if (edge > 0)
     taubinSmooth(current, rings, setup.fixed, setup.roles.boundary_neighbours, report.prepass_pairs);
-  report.seconds_prepass = seconds(t);
+  report.seconds_prepass = secondsSince(t);
   if (!report_progress(0, 0.05, "Taubin pre-pass")) return report.cancelled = true, report;
 
   FeaturePassBuffers b(n);
   for (int pass = 0; pass < outer && edge > 0; ++pass) {
-    t = clock::now();
+    t = Clock::now();
     b.releaseVertexStage();
     if (!filterPassNormals(pass == 0, mesh, setup, params, counts, first_pass_check, current,
                            normal_filter, vertex_iterations, b, report)) {
-      report.seconds_normals += seconds(t);
+      report.seconds_normals += secondsSince(t);
       return report.declined = true, report;
     }
     b.next.resize(n);
@@ -452,10 +448,10 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
       featureTangentProjectors(rings, setup.fixed, b.filtered, b.tangent_projector);
     // After the last filtering nothing reads the faces' edge neighbours.
     if (pass == outer - 1) std::vector<std::array<int, 3>>().swap(setup.face_rings.edge_neighbours);
-    report.seconds_normals += seconds(t);
+    report.seconds_normals += secondsSince(t);
     if (!report_progress(pass, 0.4, "Filtering normals")) return report.cancelled = true, report;
 
-    t = clock::now();
+    t = Clock::now();
     for (int it = 0; it < vertex_iterations; ++it) {
       // Patches refine the last pass only: measured, earlier passes gain little from them for
       // their cost (a fit per face is most of a pass's time).
@@ -464,7 +460,7 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
       if (!report_progress(pass, 0.4 + 0.6 * (it + 1) / vertex_iterations, "Moving vertices"))
         return report.cancelled = true, report;
     }
-    report.seconds_vertices += seconds(t);
+    report.seconds_vertices += secondsSince(t);
     report.outer_iterations_done = pass + 1;
   }
 
@@ -528,13 +524,8 @@ inline MethodRun featureMethod(const MeshArrays &mesh, const MethodParams &p,
   FeatureSmoothParams params;
   detail::readCommonParams(p, params);
   const FeatureSmoothReport r = featureSmoothMesh(mesh, params, out_points, quantities, progress);
-  MethodRun run;
-  run.cancelled = r.cancelled;
-  if (r.cancelled) return run;
-  run.method = "feature-preserving";
-  run.method_index = 3; // methods.h
-  run.roughness = r.roughness;
-  detail::measureMovement(quantities, r.mean_edge_length, run);
+  MethodRun run = detail::measuredRun(r, "feature-preserving", 3, quantities); // (methods.h)
+  if (run.cancelled) return run;
   run.summary = detail::featureSummary(r, params, run, mesh.points.size());
   run.details = detail::featureDetails(r);
   return run;

@@ -217,12 +217,8 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
                                                 VertexQuantities &quantities,
                                                 const ProgressFn &progress = nullptr,
                                                 DriverSetup *given_setup = nullptr) {
-  using clock = std::chrono::steady_clock;
-  auto seconds = [](clock::time_point a) {
-    return std::chrono::duration<double>(clock::now() - a).count();
-  };
   OrganicSmoothReport report;
-  auto t = clock::now();
+  auto t = Clock::now();
   // `given_setup`: as in featureSmoothMesh, the topology when the caller has it already.
   std::optional<detail::DriverSetup> own_setup;
   if (!given_setup)
@@ -231,7 +227,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   const Rings &rings = setup.rings;
   detail::reportSetup(setup, report);
   organicAmount(mesh, setup, params, report);
-  report.seconds_topology = seconds(t);
+  report.seconds_topology = secondsSince(t);
   if (progress && !progress(5, "Noise estimate")) return report.cancelled = true, report;
 
   std::vector<Vec3> current = mesh.points;
@@ -240,7 +236,7 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
   if (progress && !progress(6, noisy ? "Band shrinkage" : "The mesh measures as clean"))
     return report.cancelled = true, report;
   if (noisy) {
-    t = clock::now();
+    t = Clock::now();
     BandShrinkParams bands = params.bands;
     report.fold_moves = detail::untangleFoldsForBands(current, mesh.faces, setup, params, bands);
     detail::organicBandParams(params, setup.noise, report.amount, bands);
@@ -252,17 +248,17 @@ inline OrganicSmoothReport organicSmoothAsGiven(const MeshArrays &mesh,
                                       return !progress ||
                                              progress(5 + int(75 * fraction), "Band shrinkage");
                                     });
-    report.seconds_bands = seconds(t);
+    report.seconds_bands = secondsSince(t);
     if (report.bands.cancelled) return report.cancelled = true, report;
 
-    t = clock::now();
+    t = Clock::now();
     if (!organicPatchUpdates(mesh, setup, params, current, alpha, report,
                              [&](int update, int count) {
                                return !progress ||
                                       progress(80 + 10 * (update + 1) / count, "Patch update");
                              }))
       return report.cancelled = true, report;
-    report.seconds_patches = seconds(t);
+    report.seconds_patches = secondsSince(t);
   }
 
   if (progress && !progress(95, "Result quantities")) return report.cancelled = true, report;
@@ -337,13 +333,8 @@ inline MethodRun organicMethod(const MeshArrays &mesh, const MethodParams &p,
   OrganicSmoothParams params;
   detail::readCommonParams(p, params);
   const OrganicSmoothReport r = organicSmoothMesh(mesh, params, out_points, quantities, progress);
-  MethodRun run;
-  run.cancelled = r.cancelled;
-  if (r.cancelled) return run;
-  run.method = "organic";
-  run.method_index = 4; // methods.h
-  run.roughness = r.roughness;
-  detail::measureMovement(quantities, r.mean_edge_length, run);
+  MethodRun run = detail::measuredRun(r, "organic", 4, quantities); // (methods.h)
+  if (run.cancelled) return run;
   run.summary = detail::organicSummary(r, params, run, mesh.points.size());
   run.details = detail::organicDetails(r);
   return run;

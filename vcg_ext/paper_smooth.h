@@ -13,7 +13,6 @@
 #include "patch_neighbourhood.h"
 #include "placement.h"
 
-#include <chrono>
 #include <functional>
 #include <string>
 
@@ -305,14 +304,13 @@ inline void describePaperResult(const MeshArrays &mesh, const Rings &rings,
                                 const SmoothParams &params, SurfaceAnalysis &analysis,
                                 std::vector<double> &alpha, VertexQuantities &quantities,
                                 SmoothReport &report) {
-  using clock = std::chrono::steady_clock;
-  auto t = clock::now();
+  auto t = Clock::now();
   computeCurvature(result, mesh.faces, rings, analysis.curvature, /*with_directions=*/false);
-  report.seconds_curvature += std::chrono::duration<double>(clock::now() - t).count();
-  t = clock::now();
+  report.seconds_curvature += secondsSince(t);
+  t = Clock::now();
   computeSaliency(result, rings, analysis.curvature.mean, saliency_scale, analysis.saliency,
                   params.saliency);
-  report.seconds_saliency += std::chrono::duration<double>(clock::now() - t).count();
+  report.seconds_saliency += secondsSince(t);
   PatchAlpha used;
   used.per_vertex = std::move(alpha);
   report.vertices_moved += storeResultQuantities(mesh.points, result, rings, std::move(analysis),
@@ -328,18 +326,14 @@ inline void describePaperResult(const MeshArrays &mesh, const Rings &rings,
 inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &params,
                                std::vector<Vec3> &out_points, VertexQuantities &quantities,
                                const ProgressFn &progress = nullptr) {
-  using clock = std::chrono::steady_clock;
-  auto seconds = [](clock::time_point a) {
-    return std::chrono::duration<double>(clock::now() - a).count();
-  };
   SmoothReport report;
   const int n = int(mesh.points.size());
-  auto t0 = clock::now();
+  auto t0 = Clock::now();
   detail::DriverSetup setup =
       detail::driverSetup(mesh, params.selected_only, params.boundary, /*with_face_rings=*/false,
                           /*with_two_rings=*/true);
   Rings &rings = setup.rings;
-  report.seconds_topology = seconds(t0);
+  report.seconds_topology = secondsSince(t0);
   detail::reportPaperSetup(setup, report);
 
   std::vector<Vec3> current = mesh.points, next = mesh.points;
@@ -363,29 +357,29 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
   };
 
   for (int it = 0; it < iterations; ++it) {
-    auto t = clock::now();
+    auto t = Clock::now();
     if (needs_curvature)
       computeCurvature(current, mesh.faces, rings, analysis.curvature);
     else
       computeVertexNormals(current, mesh.faces, rings, analysis.curvature.normal);
-    report.seconds_curvature += seconds(t);
+    report.seconds_curvature += secondsSince(t);
     if (!report_progress(it, 0.1, "Curvature")) return report.cancelled = true, report;
     if (needs_saliency) {
-      t = clock::now();
+      t = Clock::now();
       // The paper's curvature map: "negative minima of principal curvatures", i.e. k2.
       computeSaliency(current, rings, analysis.curvature.k2, saliency_scale, analysis.saliency,
                       params.saliency);
-      report.seconds_saliency += seconds(t);
+      report.seconds_saliency += secondsSince(t);
       if (!report_progress(it, 0.3, "Saliency")) return report.cancelled = true, report;
     }
-    t = clock::now();
+    t = Clock::now();
     if (!detail::paperVertexSweep(mesh, setup, current, analysis, params, alpha, next, report,
                                   [&](int stop) {
                                     return report_progress(it, 0.3 + 0.7 * stop / n,
                                                            "Fitting patches");
                                   }))
       return report.cancelled = true, report;
-    report.seconds_fit += seconds(t);
+    report.seconds_fit += secondsSince(t);
     if (params.preserve_volume && report.closed)
       detail::restoreVolume(next, mesh.faces, rings, movable, report.volume_before,
                             setup.stats.mean_edge_length, normals_scratch);

@@ -268,3 +268,105 @@ TEST(FlatnessStride, BelowTheStrideTheChoiceReadsTheEdgeByEdgeEvidence) {
   EXPECT_EQ(model.flat_pairs, edges.flat_pairs);
   EXPECT_EQ(model.confirmed_share, edges.confirmed_share);
 }
+
+// The choice's thresholds: either share at its threshold (plus the margin) says sharp features.
+TEST(AutoSmoothStages, SharpFeaturesByEitherShareAgainstItsThresholdAndMargin) {
+  AutoSmoothParams params;
+  params.feature_flat_share = 0.25;
+  params.feature_confirmed_share = 0.75;
+  SharpFeatureEvidence e;
+  e.flat_share = 0.25, e.confirmed_share = 0.5;
+  EXPECT_TRUE(detail::hasSharpFeatures(e, params));
+  EXPECT_FALSE(detail::hasSharpFeatures(e, params, 0.01, 0.0));
+  EXPECT_TRUE(detail::hasSharpFeatures(e, params, -0.01, 0.0));
+  e.flat_share = 0.1, e.confirmed_share = 0.75;
+  EXPECT_TRUE(detail::hasSharpFeatures(e, params));
+  EXPECT_FALSE(detail::hasSharpFeatures(e, params, 0.0, 0.05));
+  e.confirmed_share = 0.7;
+  EXPECT_FALSE(detail::hasSharpFeatures(e, params));
+  EXPECT_TRUE(detail::hasSharpFeatures(e, params, 0.0, -0.05));
+}
+
+// The crease-confirming copy: the pre-pass's own positions when it ran the reference's pairs,
+// else that many Taubin pairs of the input.
+TEST(AutoSmoothStages, ReferenceNormalsAreThePrepassWhenItRanTheSamePairs) {
+  const MeshArrays clean = test_meshes::icosphere(1.0, 3);
+  const MeshArrays noisy = withRandomNoise(clean, 0.2 * meanEdge(clean), 4);
+  const detail::DriverSetup setup = detail::driverSetup(noisy, false, BoundaryMode::NoInward);
+  std::vector<Vec3> taubin4 = noisy.points, expected;
+  taubinSmooth(taubin4, setup.rings, setup.fixed, setup.roles.boundary_neighbours, 4);
+  computeFaceNormals(taubin4, noisy.faces, expected);
+  std::vector<Vec3> normals, from_prepass;
+  detail::referenceNormals(noisy, setup, clean.points, 2, 4, normals); // pre-pass of 2 pairs
+  EXPECT_EQ(normals, expected);
+  detail::referenceNormals(noisy, setup, clean.points, 4, 4, from_prepass);
+  EXPECT_EQ(from_prepass, faceNormals(clean)); // (the positions it was given)
+}
+
+// The decision on the whole mesh fills the report: a box's own normals are flat and creased, a
+// sphere's are neither.
+TEST(AutoSmoothStages, DecisionOnTheFirstPassFillsTheReport) {
+  const AutoSmoothParams params;
+  for (const bool box : {true, false}) {
+    const MeshArrays m = box ? test_meshes::box(1.0, 0.8, 0.6, 8) : test_meshes::icosphere(1.0, 3);
+    const detail::DriverSetup setup = detail::driverSetup(m, false, BoundaryMode::NoInward);
+    AutoSmoothReport report;
+    const bool feature = detail::decideOnFirstPass(m, params, setup, faceNormals(m), m.points,
+                                                   params.reference_pairs, report);
+    EXPECT_EQ(feature, box);
+    EXPECT_EQ(report.chose_feature, box);
+    EXPECT_TRUE(report.decided);
+    EXPECT_EQ(report.evidence.flat_share > 0.5, box) << report.evidence.flat_share;
+    EXPECT_GE(report.seconds_reference, 0.0);
+  }
+}
+
+// The organic mode runs on the feature mode's set-up, so with its selection and boundary mode;
+// after the decision its progress fills the rest of the range.
+TEST(AutoSmoothStages, OrganicModeTakesTheSetUpsSelectionAndTheRestOfTheProgress) {
+  AutoSmoothParams params;
+  params.feature.selected_only = true;
+  params.feature.boundary = BoundaryMode::Fixed;
+  params.organic.strength = 1.5;
+  const OrganicSmoothParams organic = detail::organicParamsOf(params);
+  EXPECT_TRUE(organic.selected_only);
+  EXPECT_EQ(organic.boundary, BoundaryMode::Fixed);
+  EXPECT_EQ(organic.strength, 1.5);
+  std::vector<int> seen;
+  const ProgressFn progress = [&](int percent, const char *) {
+    seen.push_back(percent);
+    return percent < 60;
+  };
+  const ProgressFn mapped = detail::progressFrom(20, progress);
+  EXPECT_TRUE(mapped(0, ""));
+  EXPECT_TRUE(mapped(25, ""));
+  EXPECT_FALSE(mapped(50, "")); // the caller's answer comes back
+  EXPECT_FALSE(mapped(99, ""));
+  EXPECT_EQ(seen, (std::vector<int>{20, 40, 60, 99}));
+  EXPECT_FALSE(detail::progressFrom(20, ProgressFn()));
+}
+
+// The log's reasons: both shares (with their errors and the windows' share on windows) and the
+// decision's time in the form of the path it took.
+TEST(AutoSmoothStages, LogSaysWhyAndHowLongTheDecisionTook) {
+  AutoSmoothReport r;
+  r.evidence.flat_share = 0.3, r.evidence.confirmed_share = 0.9;
+  r.seconds_setup = 0.25, r.seconds_reference = 0.125;
+  EXPECT_EQ(detail::evidencePhrase(r, 1000),
+            "0.300 of the edges flat and 0.900 of the creases confirmed after guided filtering");
+  r.chose_feature = true;
+  EXPECT_EQ(detail::decisionTimeLine(r),
+            "Time of the decision: shared topology 0.250 s, Taubin copy and evidence 0.125 s.");
+  r.chose_feature = false;
+  r.feature.seconds_prepass = 0.5, r.feature.seconds_normals = 0.25;
+  EXPECT_NE(detail::decisionTimeLine(r).find("first normal filter iterations 0.750 s"),
+            std::string::npos);
+  r.windowed = true;
+  r.window_faces = 300, r.flat_error = 0.01, r.confirmed_error = 0.02, r.seconds_windows = 0.5;
+  r.evidence.flat_stride = 2;
+  EXPECT_EQ(detail::evidencePhrase(r, 1000),
+            "0.300 ± 0.010 of face pairs 2 edges apart flat and 0.900 ± 0.020 of the creases "
+            "confirmed after guided filtering, on windows holding 30 % of the faces");
+  EXPECT_EQ(detail::decisionTimeLine(r),
+            "Time of the decision: shared topology 0.250 s, evidence on windows 0.500 s.");
+}

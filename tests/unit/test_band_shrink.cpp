@@ -814,3 +814,140 @@ TEST(OrganicSmoothStages, PatchUpdatesGoTheMeasuredStepAndStopWhenCancelled) {
   EXPECT_FALSE(detail::organicPatchUpdates(noisy, setup, params, current, alpha, report,
                                            [](int, int) { return false; }));
 }
+
+namespace {
+
+// A noisy sphere with its Taubin, counted vertices and probe, as bandShrinkSmooth sets them up.
+struct BandSetup {
+  MeshArrays mesh = test_meshes::icosphere(1.0, 3);
+  Rings rings;
+  std::vector<std::uint8_t> fixed;
+  BandSetup() {
+    test_meshes::addNoise(mesh, 0.02, 5);
+    rings = computeRings(int(mesh.points.size()), mesh.faces);
+    fixed.assign(mesh.points.size(), 0);
+  }
+};
+
+} // namespace
+
+// A band's step leaves its start in `previous` (and the probe's in `probe_previous`) and smooths
+// by the band's pairs: pair by pair exactly Taubin's steps, as a Chebyshev series the same within
+// twice its tolerance times the field's largest distance from its box centre (√3 on a unit
+// sphere; CoarseBandsAsChebyshevSeriesGiveThePairByPairResult).
+TEST(BandShrinkStages, StepBandKeepsItsStartAndSmoothsByItsPairs) {
+  const BandSetup s;
+  const SpatialTaubin taubin(s.mesh.points, s.rings, s.fixed, {});
+  const detail::NoiseProbe noise_probe(s.mesh.points, s.rings, taubin, 0.01, meanEdge(s.mesh));
+  const std::vector<Vec3> start = taubin.toLocal(s.mesh.points);
+  std::vector<Vec3f> probe_start;
+  noise_probe.make(0, probe_start);
+  for (const bool chebyshev : {false, true}) {
+    BandShrinkParams params;
+    params.chebyshev = chebyshev;
+    std::vector<Vec3> coarse = start, previous, expected = start;
+    std::vector<Vec3f> probe = probe_start, probe_previous, expected_probe = probe_start;
+    detail::stepBand(taubin, params, 32, false, coarse, previous, probe, probe_previous);
+    taubin.smooth({&expected}, {&expected_probe}, 32, params.lambda, params.mu);
+    EXPECT_EQ(previous, start) << chebyshev;
+    EXPECT_EQ(probe_previous, probe_start) << chebyshev;
+    const double tolerance = chebyshev ? 2 * params.chebyshev_tolerance * std::sqrt(3.0) : 0.0;
+    EXPECT_LE(largestDifference(coarse, expected), tolerance) << chebyshev;
+    EXPECT_EQ(largestDifference(coarse, expected) > 0, chebyshev); // (the series ran)
+    EXPECT_GT(largestDifference(coarse, start), 1e-3) << chebyshev; // it did smooth
+  }
+}
+
+// The probe's energy in a band: the mean over the three components of the step's squares, summed
+// over the counted vertices; in a trimmed band also the mean of the squares below the quantile.
+TEST(BandShrinkStages, ProbeBandEnergyIsTheStepsEnergyOverTheCountedVertices) {
+  const BandSetup s;
+  std::vector<std::uint8_t> fixed = s.fixed;
+  fixed[0] = 1; // not counted
+  const SpatialTaubin taubin(s.mesh.points, s.rings, fixed, {});
+  const detail::CountedVertices cv(s.rings, fixed);
+  const int n = int(s.mesh.points.size());
+  // Each vertex's step is (1, 2, 2): squares 1, 4, 4 and a mean of 3.
+  const std::vector<Vec3f> probe_previous(n, Vec3f(1, 2, 2)), probe(n, Vec3f::Zero());
+  BandShrinkParams params; // bands 0-1 and 1-2 pairs are trimmed at the median; band 3 (4-8) not
+  params.robust_quantile = 0.5;
+  detail::BandScaleSpace space;
+  space.noise_energy.assign(4, -1.0);
+  space.noise_trimmed.assign(4, -1.0);
+  std::vector<double> term(n, 0.0), values;
+  detail::probeBandEnergy(taubin, cv, params, 0, probe_previous, probe, term, values, space);
+  EXPECT_DOUBLE_EQ(space.noise_energy[0], 3.0 * (n - 1));
+  // The lower half of {1, 4, 4, 1, 4, 4, ...}: all the 1s, then 4s.
+  const double keep = std::floor(0.5 * 3 * (n - 1)), ones = n - 1;
+  EXPECT_DOUBLE_EQ(space.noise_trimmed[0], (ones + 4.0 * (keep - ones)) / keep);
+  detail::probeBandEnergy(taubin, cv, params, 3, probe_previous, probe, term, values, space);
+  EXPECT_DOUBLE_EQ(space.noise_energy[3], 3.0 * (n - 1));
+  EXPECT_EQ(space.noise_trimmed[3], -1.0); // untouched: not a trimmed band
+}
+
+// A band's gain keeps its energy beyond α times its noise: a band with four times the noise's
+// energy keeps 3/4 at α 1 and 1/2 at α 2; a band with only noise goes; trimmed bands read their
+// trimmed energies.
+TEST(BandShrinkStages, BandGainsAreWienerGainsOfEachBandsNoise) {
+  BandShrinkParams params;
+  params.band_pairs = {0, 1, 2, 4, 8};
+  params.robust_max_pairs = 2; // bands 0 and 1 trimmed
+  detail::BandScaleSpace space;
+  space.band.resize(4);
+  space.noise_energy = {1.0, 1.0, 2.0, 5.0};
+  space.noise_trimmed = {0.5, 2.0, 0.0, 0.0};
+  const std::vector<double> energy = {100.0, 100.0, 8.0, 5.0}, trimmed = {2.0, 2.0, 0.0, 0.0};
+  const std::vector<double> at_one = detail::bandGains(space, energy, trimmed, 1.0, params);
+  ASSERT_EQ(at_one.size(), 4u);
+  EXPECT_DOUBLE_EQ(at_one[0], 0.75); // trimmed: 1 − 0.5 / 2
+  EXPECT_DOUBLE_EQ(at_one[1], 0.0);  // trimmed: 1 − 2 / 2
+  EXPECT_DOUBLE_EQ(at_one[2], 0.75); // 1 − 2 / 8
+  EXPECT_DOUBLE_EQ(at_one[3], 0.0);  // only noise
+  const std::vector<double> at_two = detail::bandGains(space, energy, trimmed, 2.0, params);
+  EXPECT_DOUBLE_EQ(at_two[0], 0.5);
+  EXPECT_DOUBLE_EQ(at_two[2], 0.5);
+}
+
+// The log's local range: from the first band with local gains to the end of the last.
+TEST(BandShrinkStages, NoteLocalBandsNamesTheirPairs) {
+  const std::vector<int> edges = {0, 1, 2, 4, 8, 16};
+  std::vector<std::vector<float>> local(5);
+  BandShrinkReport none;
+  detail::noteLocalBands(local, edges, none);
+  EXPECT_EQ(none.local_from_pairs, 0);
+  EXPECT_EQ(none.local_to_pairs, 0);
+  local[2] = {1.0f};
+  local[3] = {1.0f};
+  BandShrinkReport report;
+  detail::noteLocalBands(local, edges, report);
+  EXPECT_EQ(report.local_from_pairs, 2);
+  EXPECT_EQ(report.local_to_pairs, 8);
+}
+
+// The bands add up to the input: every gain 1 gives the input back (within the bands' float
+// rounding), every gain 0 the coarsest snapshot, a local gain of 0 in one band that band's loss.
+TEST(BandShrinkStages, RecombinedBandsWithGainOneAreTheInput) {
+  const BandSetup s;
+  const SpatialTaubin taubin(s.mesh.points, s.rings, s.fixed, {}, /*given_order=*/false);
+  const detail::CountedVertices cv(s.rings, s.fixed);
+  const detail::NoiseProbe noise_probe(s.mesh.points, s.rings, taubin, 0.01, meanEdge(s.mesh));
+  BandShrinkParams params;
+  params.band_pairs = {0, 1, 2, 4, 8};
+  std::vector<Vec3> normals;
+  detail::BandScaleSpace space;
+  ASSERT_TRUE(detail::buildBandScaleSpace(s.mesh.points, s.mesh.faces, s.rings, taubin,
+                                          noise_probe, cv, params, normals, space, nullptr));
+  const std::vector<std::vector<float>> no_local(4);
+  std::vector<Vec3> all = s.mesh.points, none = s.mesh.points, one_off = s.mesh.points;
+  detail::recombineBands(taubin, space, {1, 1, 1, 1}, no_local, all);
+  EXPECT_LE(largestDifference(all, s.mesh.points), 1e-6);
+  detail::recombineBands(taubin, space, {0, 0, 0, 0}, no_local, none);
+  EXPECT_EQ(none, taubin.toGlobal(space.coarse));
+  std::vector<std::vector<float>> local(4);
+  local[1].assign(s.mesh.points.size(), 0.0f);
+  detail::recombineBands(taubin, space, {1, 1, 1, 1}, local, one_off);
+  for (int v = 0; v < int(one_off.size()); v += 97) {
+    const Vec3 band = space.band[1][taubin.local(v)].cast<double>();
+    EXPECT_LE((one_off[v] + band - s.mesh.points[v]).norm(), 1e-6) << v;
+  }
+}

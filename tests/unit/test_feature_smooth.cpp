@@ -495,3 +495,34 @@ TEST(FeatureSmoothStages, VertexUpdateOntoPlanesOrPatchesAndThePatchesAlpha) {
     EXPECT_EQ(b.patches.size(), use_patches ? noisy.faces.size() : 0u);
   }
 }
+
+// A driver's MethodRun: its name, row, roughness and movement in mean edge lengths; a cancelled
+// run says only that.
+TEST(DriverStages, MeasuredRunTakesTheReportsRoughnessAndMovement) {
+  struct Report {
+    bool cancelled = false;
+    double roughness = 0.75, mean_edge_length = 0.5;
+  } report;
+  VertexQuantities q;
+  q.displacement = {0.0, 0.5, 1.5};
+  const MethodRun run = detail::measuredRun(report, "organic", 4, q);
+  EXPECT_FALSE(run.cancelled);
+  EXPECT_EQ(run.method, "organic");
+  EXPECT_EQ(run.method_index, 4);
+  EXPECT_EQ(run.roughness, 0.75);
+  EXPECT_EQ(run.vertices_moved, 2);
+  EXPECT_DOUBLE_EQ(run.mean_displacement_edges, (2.0 / 3.0) / 0.5);
+  report.cancelled = true;
+  const MethodRun cancelled = detail::measuredRun(report, "organic", 4, q);
+  EXPECT_TRUE(cancelled.cancelled);
+  EXPECT_EQ(cancelled.method, "");
+  EXPECT_EQ(cancelled.vertices_moved, 0);
+}
+
+// The logs' stage times: seconds of a steady clock since the start given.
+TEST(DriverStages, SecondsSinceCountsFromTheStart) {
+  const double two = secondsSince(Clock::now() - std::chrono::milliseconds(2000));
+  EXPECT_GE(two, 2.0);
+  EXPECT_LT(two, 60.0);
+  EXPECT_LT(secondsSince(Clock::now()), 1.0);
+}

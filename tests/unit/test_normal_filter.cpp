@@ -339,3 +339,55 @@ TEST(NormalFilter, ACheckpointSeesTheNormalsSoFarAndDoesNotChangeTheResult) {
   EXPECT_EQ(seen, filtered(4, 0, nullptr));
   EXPECT_EQ(filtered(6, 2, [](const std::vector<Vec3> &) { return 0; }), after2);
 }
+
+namespace {
+
+// A regular tetrahedron, faces oriented outwards.
+MeshArrays tetrahedron() {
+  MeshArrays m;
+  m.points = {Vec3(1, 1, 1), Vec3(1, -1, -1), Vec3(-1, 1, -1), Vec3(-1, -1, 1)};
+  m.faces = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
+  return m;
+}
+
+} // namespace
+
+// Each edge's signed dihedral angle is computed once and read by both faces: on a tetrahedron
+// every edge turns by 180° − acos(1/3) (convex: positive), six computed and six shared; two faces
+// folded at a right angle read +90° (convex) and −90° once folded the other way.
+TEST(NormalFilter, DihedralAnglesAreSignedAndComputedOncePerEdge) {
+  const MeshArrays tet = tetrahedron();
+  const FaceRings rings = computeFaceRings(tet.faces, computeRings(4, tet.faces));
+  FaceGeometry g;
+  computeFaceGeometry(tet.points, tet.faces, g);
+  detail::DihedralAngles angles;
+  detail::dihedralAngles(tet.points, tet.faces, g.normal, rings, angles);
+  int shared = 0;
+  for (int f = 0; f < 4; ++f)
+    for (int k = 0; k < 3; ++k) {
+      shared += angles.shared[f][k] >= 0;
+      EXPECT_NEAR(angles.at(f, k, rings.edge_neighbours[f][k]),
+                  180.0 - std::acos(1.0 / 3.0) * 180.0 / M_PI, 1e-12);
+    }
+  EXPECT_EQ(shared, 6);
+  const std::vector<double> spreads = detail::dihedralSpreads(g.normal, rings, angles, nullptr);
+  for (double s : spreads) EXPECT_NEAR(s, 0.0, 1e-12);
+  const std::vector<std::uint8_t> counted = {1, 0, 1, 1};
+  EXPECT_TRUE(std::isnan(detail::dihedralSpreads(g.normal, rings, angles, &counted)[1]));
+
+  for (const double side : {-1.0, 1.0}) { // d below the first face's plane (convex) or above it
+    MeshArrays fold;
+    fold.points = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 1, 0), Vec3(0.5, 0, side)};
+    fold.faces = {{0, 1, 2}, {1, 0, 3}};
+    const FaceRings fold_rings = computeFaceRings(fold.faces, computeRings(4, fold.faces));
+    FaceGeometry fg;
+    computeFaceGeometry(fold.points, fold.faces, fg);
+    detail::dihedralAngles(fold.points, fold.faces, fg.normal, fold_rings, angles);
+    EXPECT_NEAR(angles.at(0, 0, 1), -90.0 * side, 1e-12) << side;
+    EXPECT_NEAR(angles.at(1, 0, 0), -90.0 * side, 1e-12) << side;
+    EXPECT_EQ(angles.shared[1][0], 0); // the higher face reads the lower one's angle
+    // Neither face has three neighbours: no spread.
+    for (double s : detail::dihedralSpreads(fg.normal, fold_rings, angles, nullptr))
+      EXPECT_TRUE(std::isnan(s));
+  }
+}
