@@ -14,7 +14,6 @@
 #include <vcg_ext/display_scale.h>
 #include <vcg_ext/methods.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -163,7 +162,7 @@ FilterOutcome computeSaliencyRun(MeshType &m, const ParameterValues &p, vcg::Cal
   if (!out.error.empty()) return out;
   const bool color = p.count("color") && p.at("color") != 0;
 
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = vcg_ext::Clock::now();
   const vcg_ext::Rings rings = vcg_ext::computeRings(int(arrays.points.size()), arrays.faces);
   const vcg_ext::EdgeStatistics stats = vcg_ext::edgeStatistics(arrays.points, rings);
   if (cb && !cb(10, "Curvature")) return out.error = "Cancelled.", out;
@@ -197,8 +196,7 @@ FilterOutcome computeSaliencyRun(MeshType &m, const ParameterValues &p, vcg::Cal
       v.K2() = detail::storable<DirScalar>(c.k2[i], counted_with_the_attributes);
     }
   }
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds = vcg_ext::secondsSince(start);
   long salient = 0, boundary = 0, nonmanifold = 0, isolated = 0;
   double mean_abs_h = 0;
   for (size_t i = 0; i < arrays.points.size(); ++i) {
@@ -386,6 +384,14 @@ FilterOutcome applySaliencyBezierSmooth(MeshType &m, const ParameterValues &p,
                                         vcg::CallBackPos *cb) {
   return detail::withinMemory(m, smoothingMemoryCost(), "smoothing",
                               [&] { return detail::smoothRun(m, p, cb); });
+}
+
+// Filter `id` on `m`: the plugins' applyFilter, tools/smooth_mesh and the fuzzer.
+template <class MeshType>
+FilterOutcome applyFilterById(FilterId id, MeshType &m, const ParameterValues &p,
+                              vcg::CallBackPos *cb) {
+  return id == FilterId::ComputeSaliencyCurvature ? applyComputeSaliency(m, p, cb)
+                                                  : applySaliencyBezierSmooth(m, p, cb);
 }
 
 // Default values of a filter's parameters (for tests and tools that call the filters directly).

@@ -1,16 +1,11 @@
 #include "plugin_meshlab2025.h"
 
-#include "apply_filters.h"
+#include "plugin_common.h"
 
 using namespace saliency_bezier;
 
 namespace {
-FilterId filterOf(int id) {
-  return id == SaliencyBezierSmoothPlugin::FP_COMPUTE_SALIENCY_CURVATURE
-             ? FilterId::ComputeSaliencyCurvature
-             : FilterId::SaliencyBezierSmooth;
-}
-QString q(const std::string &s) { return QString::fromStdString(s); }
+FilterId filterOf(int id) { return saliency_bezier::filterOf<SaliencyBezierSmoothPlugin>(id); }
 } // namespace
 
 SaliencyBezierSmoothPlugin::SaliencyBezierSmoothPlugin() {
@@ -86,19 +81,7 @@ SaliencyBezierSmoothPlugin::applyFilter(const QAction *a, const RichParameterLis
   MeshModel *mm = md.mm();
   if (!mm) throw MLException("No current mesh.");
   const FilterId id = filterOf(ID(a));
-  ParameterValues values;
-  for (const ParamSpec &s : parameterSpecs(id)) {
-    const QString name = q(s.name);
-    switch (s.kind) {
-    case ParamKind::Int: values[s.name] = list.getInt(name); break;
-    case ParamKind::Float: values[s.name] = list.getFloat(name); break;
-    case ParamKind::Bool: values[s.name] = list.getBool(name); break;
-    case ParamKind::Enum: values[s.name] = list.getEnum(name); break;
-    }
-  }
-  const FilterOutcome outcome = id == FilterId::ComputeSaliencyCurvature
-                                    ? applyComputeSaliency(mm->cm, values, cb)
-                                    : applySaliencyBezierSmooth(mm->cm, values, cb);
+  const FilterOutcome outcome = applyFilterById(id, mm->cm, readParameterValues(id, list), cb);
   for (const std::string &line : outcome.log) log(line);
   if (!outcome.ok) throw MLException(q(outcome.error));
   mm->updateDataMask(MeshModel::MM_VERTQUALITY);

@@ -11,7 +11,6 @@
 
 #include <filter_saliency_bezier_smooth/apply_filters.h>
 
-#include <chrono>
 #include <cstring>
 
 using namespace saliency_bezier;
@@ -53,12 +52,9 @@ int main(int argc, char **argv) {
   if (!tool_mesh::load(mesh, in, "smooth_mesh")) return 2;
   const double rss_before = detail::procField("/proc/self/status", "VmRSS"),
                vm_before = detail::procField("/proc/self/status", "VmSize");
-  const auto start = std::chrono::steady_clock::now();
-  const FilterOutcome outcome = id == FilterId::SaliencyBezierSmooth
-                                    ? applySaliencyBezierSmooth(mesh, values, nullptr)
-                                    : applyComputeSaliency(mesh, values, nullptr);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto start = vcg_ext::Clock::now();
+  const FilterOutcome outcome = applyFilterById(id, mesh, values, nullptr);
+  const double seconds = vcg_ext::secondsSince(start);
   for (const std::string &line : outcome.log) std::fprintf(stderr, "%s\n", line.c_str());
   if (!outcome.ok) {
     std::fprintf(stderr, "smooth_mesh: %s\n", outcome.error.c_str());

@@ -230,9 +230,7 @@ void runOne(ByteReader &in) {
   const std::string before = test_vcg::snapshot(m);
   const std::vector<Vec3> positions_before = test_vcg::positions(m);
   const int vn = m.vn, fn = m.fn;
-  const FilterOutcome o = id == FilterId::SaliencyBezierSmooth
-                              ? applySaliencyBezierSmooth(m, p, progress)
-                              : applyComputeSaliency(m, p, progress);
+  const FilterOutcome o = applyFilterById(id, m, p, progress);
   const bool cancelled = g_cancel_at > 0 && g_calls >= g_cancel_at;
   if (!o.ok) {
     if (o.error.empty()) fail("refusal without a message", o);
