@@ -151,6 +151,62 @@ inline vcg_ext::ProgressFn progressOf(vcg::CallBackPos *cb) {
 
 namespace detail {
 
+// The principal directions and curvatures into vcglib's own per-vertex fields, where the mesh
+// has them (MeshLab's "Per vertex curvature directions"); the values' clamping was counted with
+// the attributes.
+template <class MeshType>
+void storeCurvatureDirections(MeshType &m, const vcg_ext::MeshArrays &arrays,
+                              const vcg_ext::CurvatureField &c) {
+  if (!vcg::tri::HasPerVertexCurvatureDir(m)) return;
+  using Dir = typename MeshType::VertexType::CurVecType;
+  using DirScalar = typename Dir::ScalarType;
+  for (size_t i = 0; i < arrays.points.size(); ++i) {
+    auto &v = m.vert[arrays.mesh_slot[i]];
+    v.PD1() = Dir(DirScalar(c.dir1[i].x()), DirScalar(c.dir1[i].y()), DirScalar(c.dir1[i].z()));
+    v.PD2() = Dir(DirScalar(c.dir2[i].x()), DirScalar(c.dir2[i].y()), DirScalar(c.dir2[i].z()));
+    long counted_with_the_attributes = 0;
+    v.K1() = storable<DirScalar>(c.k1[i], counted_with_the_attributes);
+    v.K2() = storable<DirScalar>(c.k2[i], counted_with_the_attributes);
+  }
+}
+
+// The log line of the per-vertex values stored clamped to the mesh's number range.
+inline std::string clampedLog(long clamped) {
+  return formatLine("%.0f per-vertex values were NaN or beyond the mesh's number range (a tiny mesh "
+                "or tiny faces): stored as 0 or the largest representable value.",
+                double(clamped));
+}
+
+// The analysis filter's log: what was computed and in what time, how many vertices are salient,
+// the vertices whose curvature is borrowed or undefined, the values clamped.
+inline std::vector<std::string> analysisLog(const vcg_ext::Rings &rings,
+                                            const vcg_ext::SurfaceAnalysis &analysis,
+                                            double seconds, double epsilon, long clamped) {
+  const size_t n = analysis.saliency.size();
+  long salient = 0, boundary = 0, nonmanifold = 0, isolated = 0;
+  double mean_abs_h = 0;
+  for (size_t i = 0; i < n; ++i) {
+    salient += analysis.saliency[i] > 0.5;
+    boundary += rings.boundary[i];
+    nonmanifold += rings.nonmanifold[i];
+    isolated += rings.isolated[i];
+    mean_abs_h += std::abs(analysis.curvature.mean[i]) / n;
+  }
+  std::vector<std::string> log;
+  log.push_back(formatLine(
+      "Saliency and curvature of %.0f vertices in %.3f s (epsilon = %g of the bbox diagonal).",
+      double(n), seconds, epsilon));
+  log.push_back(formatLine("Vertices with saliency > 0.5: %.0f; mean |H| = %g; boundary vertices "
+                           "(curvature from neighbours): %.0f.",
+                           double(salient), mean_abs_h, double(boundary)));
+  if (nonmanifold + isolated > 0)
+    log.push_back(formatLine("Curvature and saliency undefined, set to 0: %.0f non-manifold, %.0f "
+                             "isolated (in no face) vertices.",
+                             double(nonmanifold), double(isolated)));
+  if (clamped > 0) log.push_back(clampedLog(clamped));
+  return log;
+}
+
 // "Compute Mesh Saliency and Principal Curvatures" (applyComputeSaliency) without the memory guard.
 template <class MeshType>
 FilterOutcome computeSaliencyRun(MeshType &m, const ParameterValues &p, vcg::CallBackPos *cb) {
@@ -184,43 +240,9 @@ FilterOutcome computeSaliencyRun(MeshType &m, const ParameterValues &p, vcg::Cal
   out.colored = detail::storeQuality(m, arrays, shown, color);
   long clamped = 0;
   for (size_t k = 0; k < 5; ++k) attributes.store(k, arrays, *quantities[k], clamped);
-  if (vcg::tri::HasPerVertexCurvatureDir(m)) {
-    using Dir = typename MeshType::VertexType::CurVecType;
-    using DirScalar = typename Dir::ScalarType;
-    for (size_t i = 0; i < arrays.points.size(); ++i) {
-      auto &v = m.vert[arrays.mesh_slot[i]];
-      v.PD1() = Dir(DirScalar(c.dir1[i].x()), DirScalar(c.dir1[i].y()), DirScalar(c.dir1[i].z()));
-      v.PD2() = Dir(DirScalar(c.dir2[i].x()), DirScalar(c.dir2[i].y()), DirScalar(c.dir2[i].z()));
-      long counted_with_the_attributes = 0;
-      v.K1() = detail::storable<DirScalar>(c.k1[i], counted_with_the_attributes);
-      v.K2() = detail::storable<DirScalar>(c.k2[i], counted_with_the_attributes);
-    }
-  }
-  const double seconds = vcg_ext::secondsSince(start);
-  long salient = 0, boundary = 0, nonmanifold = 0, isolated = 0;
-  double mean_abs_h = 0;
-  for (size_t i = 0; i < arrays.points.size(); ++i) {
-    salient += analysis.saliency[i] > 0.5;
-    boundary += rings.boundary[i];
-    nonmanifold += rings.nonmanifold[i];
-    isolated += rings.isolated[i];
-    mean_abs_h += std::abs(c.mean[i]) / arrays.points.size();
-  }
-  out.log.push_back(detail::formatLine(
-      "Saliency and curvature of %.0f vertices in %.3f s (epsilon = %g of the bbox diagonal).",
-      double(arrays.points.size()), seconds, scale / stats.bbox_diagonal));
-  out.log.push_back(detail::formatLine("Vertices with saliency > 0.5: %.0f; mean |H| = %g; "
-                                   "boundary vertices (curvature from neighbours): %.0f.",
-                                   double(salient), mean_abs_h, double(boundary)));
-  if (nonmanifold + isolated > 0)
-    out.log.push_back(detail::formatLine("Curvature and saliency undefined, set to 0: %.0f "
-                                     "non-manifold, %.0f isolated (in no face) vertices.",
-                                     double(nonmanifold), double(isolated)));
-  if (clamped > 0)
-    out.log.push_back(detail::formatLine("%.0f per-vertex values were NaN or beyond the mesh's number "
-                                     "range (a tiny mesh or tiny faces): stored as 0 or the largest "
-                                     "representable value.",
-                                     double(clamped)));
+  storeCurvatureDirections(m, arrays, c);
+  out.log = analysisLog(rings, analysis, vcg_ext::secondsSince(start),
+                        scale / stats.bbox_diagonal, clamped);
   out.ok = true;
   return out;
 }
@@ -247,12 +269,6 @@ long storeSmoothingResult(MeshType &m, const vcg_ext::MeshArrays &arrays,
     vcg::tri::UpdateNormal<MeshType>::PerVertexNormalizedPerFaceNormalized(m);
   vcg::tri::UpdateBounding<MeshType>::Box(m);
   return clamped;
-}
-
-inline std::string clampedLog(long clamped) {
-  return formatLine("%.0f per-vertex values were NaN or beyond the mesh's number range (a tiny mesh "
-                "or tiny faces): stored as 0 or the largest representable value.",
-                double(clamped));
 }
 
 } // namespace detail

@@ -56,21 +56,7 @@ MeshFilterInterface::FILTER_ARITY SaliencyBezierSmoothPlugin::filterArity(QActio
 
 void SaliencyBezierSmoothPlugin::initParameterSet(QAction *a, MeshDocument &md,
                                                   RichParameterList &list) {
-  for (const ParamSpec &s : parameterSpecs(filterOf(ID(a)))) {
-    double value = s.default_value;
-    if (s.name == "selected_only" && md.mm()) value = md.mm()->cm.svn > 0;
-    switch (s.kind) {
-    case ParamKind::Int: list.addParam(RichInt(q(s.name), int(value), q(s.label), q(s.tooltip))); break;
-    case ParamKind::Float: list.addParam(RichFloat(q(s.name), float(value), q(s.label), q(s.tooltip))); break;
-    case ParamKind::Bool: list.addParam(RichBool(q(s.name), value != 0, q(s.label), q(s.tooltip))); break;
-    case ParamKind::Enum: {
-      QStringList choices;
-      for (const auto &c : s.choices) choices << q(c);
-      list.addParam(RichEnum(q(s.name), int(value), choices, q(s.label), q(s.tooltip)));
-      break;
-    }
-    }
-  }
+  addParameters<float>(filterOf(ID(a)), md, list);
 }
 
 bool SaliencyBezierSmoothPlugin::applyFilter(QAction *a, MeshDocument &md,

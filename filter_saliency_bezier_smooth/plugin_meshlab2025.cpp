@@ -56,21 +56,7 @@ FilterPlugin::FilterArity SaliencyBezierSmoothPlugin::filterArity(const QAction 
 RichParameterList SaliencyBezierSmoothPlugin::initParameterList(const QAction *a,
                                                                 const MeshDocument &md) {
   RichParameterList list;
-  for (const ParamSpec &s : parameterSpecs(filterOf(ID(a)))) {
-    double value = s.default_value;
-    if (s.name == "selected_only" && md.mm()) value = md.mm()->cm.svn > 0;
-    switch (s.kind) {
-    case ParamKind::Int: list.addParam(RichInt(q(s.name), int(value), q(s.label), q(s.tooltip))); break;
-    case ParamKind::Float: list.addParam(RichFloat(q(s.name), Scalarm(value), q(s.label), q(s.tooltip))); break;
-    case ParamKind::Bool: list.addParam(RichBool(q(s.name), value != 0, q(s.label), q(s.tooltip))); break;
-    case ParamKind::Enum: {
-      QStringList choices;
-      for (const auto &c : s.choices) choices << q(c);
-      list.addParam(RichEnum(q(s.name), int(value), choices, q(s.label), q(s.tooltip)));
-      break;
-    }
-    }
-  }
+  addParameters<Scalarm>(filterOf(ID(a)), md, list);
   return list;
 }
 

@@ -142,6 +142,19 @@ MethodRun measuredRun(const Report &r, const char *method, int method_index,
   return run;
 }
 
+// A driver's progress over its passes: pass p at fraction f of it reports span·(p + f) / passes
+// percent, at most 99 (the rest is the result's); false when the user cancelled.
+struct PassProgress {
+  const ProgressFn &progress;
+  int passes;
+  double span;
+  bool operator()(int pass, double fraction, const char *stage) const {
+    if (!progress) return true;
+    const int percent = int(span * (pass + fraction) / std::max(1, passes));
+    return progress(std::min(percent, 99), stage);
+  }
+};
+
 // "6475 of 6475 vertices moved, by 0.21 mean edge lengths on average": what a user checks first.
 inline std::string movedPhrase(const MethodRun &run, size_t vertices) {
   return formatLine("%ld of %zu vertices moved, by %.3g mean edge lengths on average",

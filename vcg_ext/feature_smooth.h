@@ -386,6 +386,60 @@ inline void featureVertexUpdate(bool use_patches, const MeshArrays &mesh, const 
   current.swap(b.next);
 }
 
+// What the noise estimate asked for, into the report (the log says what was done).
+inline void reportPassCounts(const FeaturePassCounts &counts, const DriverSetup &setup,
+                             FeatureSmoothReport &report) {
+  report.dihedral_spread_deg = counts.spread_deg;
+  report.noise = setup.noise;
+  report.roughness = counts.roughness;
+  report.amount = counts.amount;
+  report.tail_factor = counts.tail_factor;
+  report.prepass_pairs = counts.prepass_pairs;
+  report.normal_iterations = counts.normal_iterations;
+  report.vertex_iterations = counts.vertex_iterations;
+}
+
+enum class PassEnd { Done, Declined, Cancelled };
+
+// One outer pass on `current`: the face normals filtered (the first pass's `check` may decline
+// the mode: the automatic choice), then the vertex updates, the last pass's last ones onto face
+// patches. `normal_filter` and `vertex_iterations` may grow at the first pass (planar extra).
+inline PassEnd featurePass(int pass, const MeshArrays &mesh, DriverSetup &setup,
+                           const FeatureSmoothParams &params, const FeaturePassCounts &counts,
+                           const FilteredNormalsCheck &check, const PassProgress &progress,
+                           NormalFilterParams &normal_filter, int &vertex_iterations,
+                           std::vector<Vec3> &current, FeaturePassBuffers &b,
+                           FeatureSmoothReport &report) {
+  const bool last = pass == progress.passes - 1;
+  auto t = Clock::now();
+  b.releaseVertexStage();
+  if (!filterPassNormals(pass == 0, mesh, setup, params, counts, check, current, normal_filter,
+                         vertex_iterations, b, report)) {
+    report.seconds_normals += secondsSince(t);
+    return PassEnd::Declined;
+  }
+  b.next.resize(current.size());
+  if (params.tangential > 0)
+    featureTangentProjectors(setup.rings, setup.fixed, b.filtered, b.tangent_projector);
+  // After the last filtering nothing reads the faces' edge neighbours.
+  if (last) std::vector<std::array<int, 3>>().swap(setup.face_rings.edge_neighbours);
+  report.seconds_normals += secondsSince(t);
+  if (!progress(pass, 0.4, "Filtering normals")) return PassEnd::Cancelled;
+
+  t = Clock::now();
+  for (int it = 0; it < vertex_iterations; ++it) {
+    // Patches refine the last pass only: measured, earlier passes gain little from them for
+    // their cost (a fit per face is most of a pass's time).
+    const bool use_patches = last && it >= vertex_iterations - params.patch_iterations;
+    featureVertexUpdate(use_patches, mesh, setup, params, current, b, report);
+    if (!progress(pass, 0.4 + 0.6 * (it + 1) / vertex_iterations, "Moving vertices"))
+      return PassEnd::Cancelled;
+  }
+  report.seconds_vertices += secondsSince(t);
+  report.outer_iterations_done = pass + 1;
+  return PassEnd::Done;
+}
+
 // The driver on `mesh` as given (featureSmoothMesh runs it in spatial order).
 inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
                                                 const FeatureSmoothParams &params,
@@ -395,22 +449,16 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
                                                 const FilteredNormalsCheck &first_pass_check = nullptr,
                                                 DriverSetup *given_setup = nullptr) {
   FeatureSmoothReport report;
-  const int n = int(mesh.points.size());
   auto t = Clock::now();
   std::optional<DriverSetup> own_setup;
   if (!given_setup) own_setup.emplace(driverSetup(mesh, params.selected_only, params.boundary));
   DriverSetup &setup = given_setup ? *given_setup : *own_setup;
   ensureFaceRings(mesh, setup);
-  const Rings &rings = setup.rings;
   reportSetup(setup, report);
   report.seconds_topology = secondsSince(t);
   const double edge = setup.stats.mean_edge_length;
-  const int outer = std::max(0, params.outer_iterations);
-  auto report_progress = [&](int pass, double fraction, const char *stage) {
-    if (!progress) return true;
-    const int percent = int(90.0 * (pass + fraction) / std::max(1, outer));
-    return progress(std::min(percent, 99), stage);
-  };
+  // 0-90 % over the passes: the result quantities take the rest.
+  const PassProgress report_progress{progress, std::max(0, params.outer_iterations), 90.0};
 
   std::vector<Vec3> current = mesh.points;
   t = Clock::now();
@@ -420,48 +468,23 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   // iteration followed by the vertex updates flattens a coarse organic mesh (clean armadillo:
   // 11°), hence the clean/noisy decision first (bench/NOISE_ESTIMATE.md).
   const FeaturePassCounts counts = featurePassCounts(mesh, params, setup);
-  report.dihedral_spread_deg = counts.spread_deg;
-  report.noise = setup.noise;
-  report.roughness = counts.roughness;
-  report.amount = counts.amount;
-  report.tail_factor = counts.tail_factor;
-  report.prepass_pairs = counts.prepass_pairs;
+  reportPassCounts(counts, setup, report);
   NormalFilterParams normal_filter = params.normals;
-  normal_filter.iterations = report.normal_iterations = counts.normal_iterations;
-  int vertex_iterations = report.vertex_iterations = counts.vertex_iterations;
+  normal_filter.iterations = counts.normal_iterations;
+  int vertex_iterations = counts.vertex_iterations;
   if (edge > 0)
-    taubinSmooth(current, rings, setup.fixed, setup.roles.boundary_neighbours, report.prepass_pairs);
+    taubinSmooth(current, setup.rings, setup.fixed, setup.roles.boundary_neighbours,
+                 report.prepass_pairs);
   report.seconds_prepass = secondsSince(t);
   if (!report_progress(0, 0.05, "Taubin pre-pass")) return report.cancelled = true, report;
 
-  FeaturePassBuffers b(n);
-  for (int pass = 0; pass < outer && edge > 0; ++pass) {
-    t = Clock::now();
-    b.releaseVertexStage();
-    if (!filterPassNormals(pass == 0, mesh, setup, params, counts, first_pass_check, current,
-                           normal_filter, vertex_iterations, b, report)) {
-      report.seconds_normals += secondsSince(t);
-      return report.declined = true, report;
-    }
-    b.next.resize(n);
-    if (params.tangential > 0)
-      featureTangentProjectors(rings, setup.fixed, b.filtered, b.tangent_projector);
-    // After the last filtering nothing reads the faces' edge neighbours.
-    if (pass == outer - 1) std::vector<std::array<int, 3>>().swap(setup.face_rings.edge_neighbours);
-    report.seconds_normals += secondsSince(t);
-    if (!report_progress(pass, 0.4, "Filtering normals")) return report.cancelled = true, report;
-
-    t = Clock::now();
-    for (int it = 0; it < vertex_iterations; ++it) {
-      // Patches refine the last pass only: measured, earlier passes gain little from them for
-      // their cost (a fit per face is most of a pass's time).
-      const bool use_patches = pass == outer - 1 && it >= vertex_iterations - params.patch_iterations;
-      featureVertexUpdate(use_patches, mesh, setup, params, current, b, report);
-      if (!report_progress(pass, 0.4 + 0.6 * (it + 1) / vertex_iterations, "Moving vertices"))
-        return report.cancelled = true, report;
-    }
-    report.seconds_vertices += secondsSince(t);
-    report.outer_iterations_done = pass + 1;
+  FeaturePassBuffers b(int(mesh.points.size()));
+  for (int pass = 0; pass < report_progress.passes && edge > 0; ++pass) {
+    const PassEnd end = featurePass(pass, mesh, setup, params, counts, first_pass_check,
+                                    report_progress, normal_filter, vertex_iterations, current, b,
+                                    report);
+    if (end == PassEnd::Declined) return report.declined = true, report;
+    if (end == PassEnd::Cancelled) return report.cancelled = true, report;
   }
 
   if (params.preserve_volume && report.closed && vertex_iterations > 0 && edge > 0)
@@ -471,8 +494,8 @@ inline FeatureSmoothReport featureSmoothAsGiven(const MeshArrays &mesh,
   // should not stack on the iterations' buffers.
   b.releaseAll();
   setup.face_rings = FaceRings();
-  finishDriver(mesh, rings, params.saliency_scale * setup.stats.bbox_diagonal, current, out_points,
-               quantities, report, std::move(b.alpha));
+  finishDriver(mesh, setup.rings, params.saliency_scale * setup.stats.bbox_diagonal, current,
+               out_points, quantities, report, std::move(b.alpha));
   return report;
 }
 

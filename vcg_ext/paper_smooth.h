@@ -296,6 +296,29 @@ bool paperVertexSweep(const MeshArrays &mesh, const DriverSetup &setup,
   return finished;
 }
 
+// The iteration's analysis of `current`: the curvature (only the vertex normals where nothing
+// reads more) and, where needed, the saliency of k2 (the paper's curvature map: "negative minima
+// of principal curvatures"). False when the user cancelled.
+inline bool analyseIteration(int it, const MeshArrays &mesh, const Rings &rings,
+                             const std::vector<Vec3> &current, const SmoothParams &params,
+                             bool needs_curvature, bool needs_saliency, double saliency_scale,
+                             const PassProgress &progress, SurfaceAnalysis &analysis,
+                             SmoothReport &report) {
+  auto t = Clock::now();
+  if (needs_curvature)
+    computeCurvature(current, mesh.faces, rings, analysis.curvature);
+  else
+    computeVertexNormals(current, mesh.faces, rings, analysis.curvature.normal);
+  report.seconds_curvature += secondsSince(t);
+  if (!progress(it, 0.1, "Curvature")) return false;
+  if (!needs_saliency) return true;
+  t = Clock::now();
+  computeSaliency(current, rings, analysis.curvature.k2, saliency_scale, analysis.saliency,
+                  params.saliency);
+  report.seconds_saliency += secondsSince(t);
+  return progress(it, 0.3, "Saliency");
+}
+
 // The result's quantities, as the other methods describe theirs (Lee et al.'s saliency of the
 // mean curvature, surface_analysis.h; the curvatures without directions, which are not stored),
 // with the α of the last iteration's placements; its volume.
@@ -350,29 +373,14 @@ inline SmoothReport smoothMesh(const MeshArrays &mesh, const SmoothParams &param
   const bool needs_saliency = params.placement == PlacementMode::Paper || !params.alpha_override;
   const bool needs_curvature = needs_saliency || params.placement == PlacementMode::Paper;
   if (!needs_saliency) analysis.saliency.assign(n, 0.0);
-  auto report_progress = [&](int iteration, double fraction, const char *stage) {
-    if (!progress) return true;
-    const int percent = int(100.0 * (iteration + fraction) / std::max(1, iterations));
-    return progress(std::min(percent, 99), stage);
-  };
+  const detail::PassProgress report_progress{progress, iterations, 100.0};
 
   for (int it = 0; it < iterations; ++it) {
-    auto t = Clock::now();
-    if (needs_curvature)
-      computeCurvature(current, mesh.faces, rings, analysis.curvature);
-    else
-      computeVertexNormals(current, mesh.faces, rings, analysis.curvature.normal);
-    report.seconds_curvature += secondsSince(t);
-    if (!report_progress(it, 0.1, "Curvature")) return report.cancelled = true, report;
-    if (needs_saliency) {
-      t = Clock::now();
-      // The paper's curvature map: "negative minima of principal curvatures", i.e. k2.
-      computeSaliency(current, rings, analysis.curvature.k2, saliency_scale, analysis.saliency,
-                      params.saliency);
-      report.seconds_saliency += secondsSince(t);
-      if (!report_progress(it, 0.3, "Saliency")) return report.cancelled = true, report;
-    }
-    t = Clock::now();
+    if (!detail::analyseIteration(it, mesh, rings, current, params, needs_curvature,
+                                  needs_saliency, saliency_scale, report_progress, analysis,
+                                  report))
+      return report.cancelled = true, report;
+    const auto t = Clock::now();
     if (!detail::paperVertexSweep(mesh, setup, current, analysis, params, alpha, next, report,
                                   [&](int stop) {
                                     return report_progress(it, 0.3 + 0.7 * stop / n,

@@ -69,21 +69,10 @@ inline bool curvatureJacobian(const BezierPatch &patch, double u, double v, cons
   Hv = (Hp - Hm) / (2 * h);
   return true;
 }
-} // namespace detail
 
-inline NewtonResult solveCurvatureTarget(const BezierPatch &patch, double u0, double v0, double K_target,
-                                         double H_target, const NewtonOptions &opt) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  constexpr int kMaxHalvings = 8;
-  constexpr double kSingularDet = 1e-10; // |det J| / (|∇K| |∇H|) = sin of the angle between the rows
-  constexpr double kFlat = 1e-10;        // |∇K|/c², |∇H|/c below this: constant over the patch
-
-  NewtonResult result{0.5, 0.5, NewtonStatus::InvalidTarget, kInf, 0};
-  if (!std::isfinite(u0) || !std::isfinite(v0)) return result;
-  result.u = detail::clamp01(u0);
-  result.v = detail::clamp01(v0);
-  if (!std::isfinite(K_target) || !std::isfinite(H_target)) return result;
-
+// The residual for the targets K*, H*, its scale c from them and the control net's size.
+inline CurvatureResidual curvatureResidual(const BezierPatch &patch, double K_target,
+                                           double H_target) {
   Vec3 lo = patch.b[0], hi = patch.b[0];
   for (const Vec3 &p : patch.b) {
     lo = lo.cwiseMin(p);
@@ -91,8 +80,47 @@ inline NewtonResult solveCurvatureTarget(const BezierPatch &patch, double u0, do
   }
   const double size = (hi - lo).norm();
   const double floor = size > 0 ? 1.0 / size : 1.0;
-  const detail::CurvatureResidual residualOf{
-      K_target, H_target, std::max({std::abs(H_target), std::sqrt(std::abs(K_target)), floor})};
+  return {K_target, H_target, std::max({std::abs(H_target), std::sqrt(std::abs(K_target)), floor})};
+}
+
+// Whether Newton's system is singular: ∇K ∥ ∇H (|det J| / (|∇K| |∇H|), the sine of the angle
+// between the rows, below 1e-10), or K or H (in units of the curvature scale c) does not vary
+// over the patch beyond rounding, as on a plane.
+inline bool singularJacobian(double Ku, double Kv, double Hu, double Hv, double c) {
+  constexpr double kSingularDet = 1e-10, kFlat = 1e-10;
+  const double det = Ku * Hv - Kv * Hu;
+  const double gradK = std::hypot(Ku, Kv), gradH = std::hypot(Hu, Hv);
+  return !(std::abs(det) > kSingularDet * gradK * gradH) || !(gradK > kFlat * c * c) ||
+         !(gradH > kFlat * c);
+}
+
+// The safeguard's damping of the step (du, dv) from (u, v): 1 without a safeguard (max_step <= 0),
+// else the first of 1, 1/2, ... 1/256 whose clamped point lies within max_step of `start`; −1
+// when none does.
+inline double stepDamping(const BezierPatch &patch, const Vec3 &start, double u, double v,
+                          double du, double dv, double max_step) {
+  if (max_step <= 0) return 1.0;
+  constexpr int kMaxHalvings = 8;
+  double t = 1.0;
+  for (int halving = 0; halving <= kMaxHalvings; ++halving, t *= 0.5) {
+    const Vec3 p = patch.eval(clamp01(u + t * du), clamp01(v + t * dv));
+    if ((p - start).norm() <= max_step) return t;
+  }
+  return -1.0;
+}
+
+} // namespace detail
+
+inline NewtonResult solveCurvatureTarget(const BezierPatch &patch, double u0, double v0,
+                                         double K_target, double H_target,
+                                         const NewtonOptions &opt) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  NewtonResult result{0.5, 0.5, NewtonStatus::InvalidTarget, kInf, 0};
+  if (!std::isfinite(u0) || !std::isfinite(v0)) return result;
+  result.u = detail::clamp01(u0);
+  result.v = detail::clamp01(v0);
+  if (!std::isfinite(K_target) || !std::isfinite(H_target)) return result;
+  const detail::CurvatureResidual residualOf = detail::curvatureResidual(patch, K_target, H_target);
 
   const Vec3 start = patch.eval(result.u, result.v);
   double u = result.u, v = result.v; // iterates are not clamped (paper); only what is returned is
@@ -105,30 +133,15 @@ inline NewtonResult solveCurvatureTarget(const BezierPatch &patch, double u0, do
       break;
     }
     if (residualOf(K, H) <= opt.tolerance) break;
-    // Singular: ∇K ∥ ∇H, or K or H (in units of the curvature scale) does not vary over the patch
-    // beyond rounding, as on a plane.
-    const double det = Ku * Hv - Kv * Hu;
-    const double gradK = std::hypot(Ku, Kv), gradH = std::hypot(Hu, Hv);
-    const double c = residualOf.c;
-    if (!(std::abs(det) > kSingularDet * gradK * gradH) || !(gradK > kFlat * c * c) || !(gradH > kFlat * c)) {
+    if (detail::singularJacobian(Ku, Kv, Hu, Hv, residualOf.c)) {
       singular = true;
       break;
     }
-    const double fK = K - K_target, fH = H - H_target;
+    const double det = Ku * Hv - Kv * Hu, fK = K - K_target, fH = H - H_target;
     const double du = -(Hv * fK - Kv * fH) / det;
     const double dv = -(-Hu * fK + Ku * fH) / det;
-    double t = 1.0;
-    bool accepted = opt.max_step <= 0;
-    if (!accepted) {
-      for (int halving = 0; halving <= kMaxHalvings; ++halving, t *= 0.5) {
-        const Vec3 p = patch.eval(detail::clamp01(u + t * du), detail::clamp01(v + t * dv));
-        if ((p - start).norm() <= opt.max_step) {
-          accepted = true;
-          break;
-        }
-      }
-    }
-    if (!accepted || !std::isfinite(u + t * du) || !std::isfinite(v + t * dv)) break;
+    const double t = detail::stepDamping(patch, start, u, v, du, dv, opt.max_step);
+    if (t < 0 || !std::isfinite(u + t * du) || !std::isfinite(v + t * dv)) break;
     u += t * du;
     v += t * dv;
   }

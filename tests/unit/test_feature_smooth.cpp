@@ -526,3 +526,62 @@ TEST(DriverStages, SecondsSinceCountsFromTheStart) {
   EXPECT_LT(two, 60.0);
   EXPECT_LT(secondsSince(Clock::now()), 1.0);
 }
+
+// A driver's progress: pass p at fraction f reports span·(p + f) / passes percent, at most 99,
+// and passes the user's cancel back; none given, none asked.
+TEST(DriverStages, PassProgressSpreadsThePassesOverItsSpan) {
+  std::vector<int> seen;
+  const ProgressFn progress = [&](int percent, const char *) {
+    seen.push_back(percent);
+    return percent < 80;
+  };
+  const detail::PassProgress two{progress, 2, 90.0};
+  EXPECT_TRUE(two(0, 0.5, ""));
+  EXPECT_TRUE(two(1, 0.5, ""));
+  EXPECT_FALSE(two(1, 1.0, ""));
+  const detail::PassProgress none{progress, 0, 100.0}; // no passes: counted as one
+  EXPECT_TRUE(none(0, 0.5, ""));
+  EXPECT_FALSE(none(3, 0.0, ""));
+  EXPECT_EQ(seen, (std::vector<int>{22, 67, 90, 50, 99}));
+  const ProgressFn nothing;
+  EXPECT_TRUE((detail::PassProgress{nothing, 2, 90.0})(1, 1.0, ""));
+}
+
+// One outer pass: the automatic choice's check may decline it (nothing moves), the user may
+// cancel it, else the vertices move and the pass counts as done; the counts go to the report.
+TEST(FeatureSmoothStages, OnePassMovesTheVerticesUnlessDeclinedOrCancelled) {
+  const MeshArrays noisy = noisySmallBox();
+  FeatureSmoothParams params;
+  params.planar_extra = 0; // the counts stay as measured
+  auto pass = [&](bool accept, bool go_on, std::vector<Vec3> &current, FeatureSmoothReport &report) {
+    detail::DriverSetup setup = detail::driverSetup(noisy, false);
+    detail::ensureFaceRings(noisy, setup);
+    const FeaturePassCounts counts = detail::featurePassCounts(noisy, params, setup);
+    detail::reportPassCounts(counts, setup, report);
+    EXPECT_EQ(report.normal_iterations, counts.normal_iterations);
+    EXPECT_EQ(report.vertex_iterations, counts.vertex_iterations);
+    EXPECT_EQ(report.roughness, counts.roughness);
+    NormalFilterParams normal_filter = params.normals;
+    normal_filter.iterations = counts.normal_iterations;
+    int vertex_iterations = counts.vertex_iterations;
+    detail::FeaturePassBuffers b(int(noisy.points.size()));
+    const FilteredNormalsCheck check = [&](const std::vector<Vec3> &, const std::vector<Vec3> &,
+                                           int, const detail::DriverSetup &) { return accept; };
+    const ProgressFn progress = [&](int, const char *) { return go_on; };
+    current = noisy.points;
+    return detail::featurePass(0, noisy, setup, params, counts, check,
+                               detail::PassProgress{progress, 2, 90.0}, normal_filter,
+                               vertex_iterations, current, b, report);
+  };
+  std::vector<Vec3> current;
+  FeatureSmoothReport declined, cancelled, done;
+  EXPECT_EQ(pass(false, true, current, declined), detail::PassEnd::Declined);
+  EXPECT_EQ(current, noisy.points);
+  EXPECT_EQ(pass(true, false, current, cancelled), detail::PassEnd::Cancelled);
+  EXPECT_EQ(cancelled.outer_iterations_done, 0);
+  EXPECT_EQ(pass(true, true, current, done), detail::PassEnd::Done);
+  EXPECT_EQ(done.outer_iterations_done, 1);
+  EXPECT_GT(done.normal_iterations, 0);
+  EXPECT_GT(deviation(noisy.points, test_meshes::box(1.0, 0.8, 0.6, 8)).theta_deg,
+            2 * deviation(current, test_meshes::box(1.0, 0.8, 0.6, 8)).theta_deg);
+}

@@ -170,3 +170,41 @@ TEST(Placement, AnalyticAndDifferenceJacobiansTakeTheSameSteps) {
     EXPECT_NEAR(a.v, d.v, 1e-7);
   }
 }
+
+// The residual's scale: |H*|, √|K*|, or 1 over the control net's size, whichever is largest.
+TEST(PlacementStages, CurvatureResidualScaleIsTheTargetOrTheNetsSize) {
+  const BezierPatch p = paraboloidPatch(0.8, 0.3, 1.0); // a net 2 wide, 2 deep, 2.2 high
+  const detail::CurvatureResidual flat = detail::curvatureResidual(p, 0.0, 0.0);
+  EXPECT_DOUBLE_EQ(flat.c, 1.0 / std::sqrt(4.0 + 4.0 + 2.2 * 2.2));
+  EXPECT_DOUBLE_EQ(detail::curvatureResidual(p, 9.0, 2.0).c, 3.0);
+  EXPECT_DOUBLE_EQ(detail::curvatureResidual(p, 1.0, -4.0).c, 4.0);
+  const detail::CurvatureResidual r = detail::curvatureResidual(p, 4.0, 1.0); // c = 2
+  EXPECT_DOUBLE_EQ(r(4.0, 1.5), 0.25);  // |ΔH| / c
+  EXPECT_DOUBLE_EQ(r(6.0, 1.0), 0.5);   // |ΔK| / c²
+}
+
+// Singular: the gradients parallel, or either one flat at the curvature scale.
+TEST(PlacementStages, SingularJacobianWhenTheGradientsAreParallelOrFlat) {
+  EXPECT_FALSE(detail::singularJacobian(1, 0, 0, 1, 1.0));
+  EXPECT_TRUE(detail::singularJacobian(1, 2, 2, 4, 1.0));      // ∇H = 2 ∇K
+  EXPECT_TRUE(detail::singularJacobian(1e-12, 0, 0, 1, 1.0));  // K flat
+  EXPECT_TRUE(detail::singularJacobian(1, 0, 0, 1e-12, 1.0));  // H flat
+  EXPECT_FALSE(detail::singularJacobian(1e-8, 0, 0, 1e-6, 1e-3)); // not at a small scale
+}
+
+// The safeguard's damping: the whole step where it stays within reach, halved until it does, −1
+// when even 1/256 of it does not; 1 without a safeguard.
+TEST(PlacementStages, StepDampingHalvesUntilThePointIsWithinReach) {
+  const BezierPatch p = paraboloidPatch(0.8, 0.3, 1.0);
+  const Vec3 start = p.eval(0.5, 0.5);
+  EXPECT_EQ(detail::stepDamping(p, start, 0.5, 0.5, 0.4, 0.0, 0.0), 1.0);
+  EXPECT_EQ(detail::stepDamping(p, start, 0.5, 0.5, 0.1, 0.0, 1.0), 1.0);
+  const double t = detail::stepDamping(p, start, 0.5, 0.5, 0.4, 0.0, 0.2);
+  // x(u) = 2u − 1 on this net: B(0.9, 0.5), B(0.7, 0.5) and B(0.6, 0.5) (0.2 across and a
+  // little up) are too far, B(0.55, 0.5) is not.
+  EXPECT_EQ(t, 0.125);
+  EXPECT_LE((p.eval(0.5 + t * 0.4, 0.5) - start).norm(), 0.2);
+  EXPECT_GT((p.eval(0.5 + 2 * t * 0.4, 0.5) - start).norm(), 0.2);
+  // From a start already out of reach of itself (another start): no step fits.
+  EXPECT_EQ(detail::stepDamping(p, p.eval(0.0, 0.0), 1.0, 1.0, 0.1, 0.1, 0.01), -1.0);
+}

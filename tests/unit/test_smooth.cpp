@@ -285,3 +285,31 @@ TEST(PaperStages, ProjectionOfAFlatNeighbourhoodAndItsRingBarycentre) {
                                               FoldHandling::Ignore, frame, scratch, counters));
   EXPECT_EQ(counters.fit_failures, 1);
 }
+
+// The paper's iteration analysis: the curvature (or only the normals where nothing reads more),
+// the saliency where asked; the user's cancel stops it.
+TEST(PaperStages, IterationAnalysisComputesWhatThePlacementReads) {
+  MeshArrays sphere = test_meshes::icosphere(1.0, 3);
+  const Rings rings = computeRings(int(sphere.points.size()), sphere.faces);
+  const SmoothParams params;
+  const ProgressFn go_on = [](int, const char *) { return true; };
+  for (const bool curvature : {false, true})
+    for (const bool saliency : {false, true}) {
+      if (saliency && !curvature) continue; // (the saliency reads k2)
+      SurfaceAnalysis analysis;
+      SmoothReport report;
+      EXPECT_TRUE(detail::analyseIteration(0, sphere, rings, sphere.points, params, curvature,
+                                           saliency, 0.1, detail::PassProgress{go_on, 1, 100.0},
+                                           analysis, report));
+      EXPECT_EQ(analysis.curvature.normal.size(), sphere.points.size());
+      EXPECT_EQ(analysis.curvature.mean.size(), curvature ? sphere.points.size() : 0u);
+      if (curvature) EXPECT_NEAR(std::abs(analysis.curvature.mean[0]), 1.0, 0.05); // a unit sphere
+      EXPECT_EQ(analysis.saliency.size(), saliency ? sphere.points.size() : 0u);
+    }
+  SurfaceAnalysis analysis;
+  SmoothReport report;
+  const ProgressFn stop = [](int, const char *) { return false; };
+  EXPECT_FALSE(detail::analyseIteration(0, sphere, rings, sphere.points, params, true, true, 0.1,
+                                        detail::PassProgress{stop, 1, 100.0}, analysis, report));
+  EXPECT_TRUE(analysis.saliency.empty()); // stopped after the curvature
+}
