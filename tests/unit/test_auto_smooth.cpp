@@ -7,14 +7,12 @@
 #include <omp.h>
 #include <support/analytic_meshes.h>
 #include <vcg_ext/auto_smooth.h>
+#include <support/measures.h>
 
 using namespace vcg_ext;
+using test_meshes::meanEdge;
 
 namespace {
-
-double meanEdge(const MeshArrays &m) {
-  return edgeStatistics(m.points, computeRings(int(m.points.size()), m.faces)).mean_edge_length;
-}
 
 FaceRings faceRingsOf(const MeshArrays &m) {
   return computeFaceRings(m.faces, computeRings(int(m.points.size()), m.faces));

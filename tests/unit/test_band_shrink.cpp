@@ -9,19 +9,14 @@
 #include <cstdio>
 #include <support/analytic_meshes.h>
 #include <vcg_ext/organic_smooth.h>
+#include <support/measures.h>
 
 using namespace vcg_ext;
+using test_meshes::meanEdge;
+using test_meshes::deviation;
+using test_meshes::largestDifference;
 
 namespace {
-
-double meanEdge(const MeshArrays &m) {
-  return edgeStatistics(m.points, computeRings(int(m.points.size()), m.faces)).mean_edge_length;
-}
-
-NormalDeviation deviation(const std::vector<Vec3> &result, const MeshArrays &reference) {
-  return normalDeviation(result, reference.points, reference.faces,
-                         buildEdgeTable(reference.faces));
-}
 
 struct Topology {
   Rings rings;
@@ -47,12 +42,6 @@ std::vector<Vec3> organicSmoothed(const MeshArrays &mesh,
   const OrganicSmoothReport r = organicSmoothMesh(mesh, params, out, q);
   if (report_out) *report_out = r;
   return out;
-}
-
-double largestDifference(const std::vector<Vec3> &a, const std::vector<Vec3> &b) {
-  double largest = 0;
-  for (size_t i = 0; i < a.size(); ++i) largest = std::max(largest, (a[i] - b[i]).norm());
-  return largest;
 }
 
 MeshArrays flatGrid() {

@@ -7,8 +7,10 @@
 #include <cstdlib>
 #include <random>
 #include <vector>
+#include <support/measures.h>
 
 using namespace vcg_ext;
+using test_meshes::paraboloidPatch;
 
 // Counts malloc calls of this thread while counting is on (operator new and Eigen's dynamic
 // matrices both end in malloc), to check that the per-vertex functions never touch the heap.
@@ -23,17 +25,6 @@ extern "C" void *malloc(size_t size) {
 }
 
 namespace {
-
-// Patch of z = a x² + b y² over [-h,h]², x = h(2u−1), y = h(2v−1): x is linear in u (control x
-// values −h, 0, h) and (2u−1)² has Bernstein coefficients (1, −1, 1).
-BezierPatch paraboloidPatch(double a, double b, double h) {
-  const double e[3] = {1, -1, 1};
-  BezierPatch p;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      p.b[3 * i + j] = Vec3(h * (i - 1), h * (j - 1), h * h * (a * e[i] + b * e[j]));
-  return p;
-}
 
 BezierPatch randomPatch(std::mt19937 &rng, const Vec3 &offset) {
   std::uniform_real_distribution<double> d(-1, 1);

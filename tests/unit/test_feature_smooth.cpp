@@ -7,15 +7,13 @@
 #include <support/analytic_meshes.h>
 #include <vcg_ext/feature_smooth.h>
 #include <vcg_ext/paper_smooth.h>
+#include <support/measures.h>
 
 using namespace vcg_ext;
+using test_meshes::meanEdge;
+using test_meshes::deviation;
 
 namespace {
-
-NormalDeviation deviation(const std::vector<Vec3> &result, const MeshArrays &reference) {
-  return normalDeviation(result, reference.points, reference.faces,
-                         buildEdgeTable(reference.faces));
-}
 
 std::vector<Vec3> featureSmoothed(const MeshArrays &mesh,
                                   const FeatureSmoothParams &params = FeatureSmoothParams(),
@@ -25,10 +23,6 @@ std::vector<Vec3> featureSmoothed(const MeshArrays &mesh,
   const FeatureSmoothReport r = featureSmoothMesh(mesh, params, out, q);
   if (report_out) *report_out = r;
   return out;
-}
-
-double meanEdge(const MeshArrays &m) {
-  return edgeStatistics(m.points, computeRings(int(m.points.size()), m.faces)).mean_edge_length;
 }
 
 // A box of 8 × 8 squares per side with Gaussian noise of 0.3 mean edge lengths along each

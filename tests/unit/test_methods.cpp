@@ -11,8 +11,10 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <support/measures.h>
 
 using namespace vcg_ext;
+using test_meshes::largestDifference;
 
 namespace {
 
@@ -40,12 +42,6 @@ Result runMethod(const MethodRow &row, const MeshArrays &mesh, const MethodParam
   Result r;
   r.run = row.run(mesh, params, r.points, r.q, nullptr);
   return r;
-}
-
-double largestDifference(const std::vector<Vec3> &a, const std::vector<Vec3> &b) {
-  double d = 0;
-  for (size_t i = 0; i < a.size(); ++i) d = std::max(d, (a[i] - b[i]).norm());
-  return d;
 }
 
 double meanDisplacement(const Result &r) {

@@ -7,14 +7,12 @@
 #include <vcg_ext/noise_estimate.h>
 
 #include <random>
+#include <support/measures.h>
 
 using namespace vcg_ext;
+using test_meshes::meanEdge;
 
 namespace {
-
-double meanEdge(const MeshArrays &m) {
-  return edgeStatistics(m.points, computeRings(int(m.points.size()), m.faces)).mean_edge_length;
-}
 
 NoiseEstimate estimate(const MeshArrays &m) { return estimateNoise(m.points, m.faces); }
 

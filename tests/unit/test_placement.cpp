@@ -3,20 +3,12 @@
 
 #include <cmath>
 #include <random>
+#include <support/measures.h>
 
 using namespace vcg_ext;
+using test_meshes::paraboloidPatch;
 
 namespace {
-
-// Patch of z = a x² + b y² over [-h,h]² (see test_bezier_patch.cpp): K and H vary away from the apex.
-BezierPatch paraboloidPatch(double a, double b, double h) {
-  const double e[3] = {1, -1, 1};
-  BezierPatch p;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      p.b[3 * i + j] = Vec3(h * (i - 1), h * (j - 1), h * h * (a * e[i] + b * e[j]));
-  return p;
-}
 
 bool inUnitSquare(const NewtonResult &r) {
   return std::isfinite(r.u) && std::isfinite(r.v) && r.u >= 0 && r.u <= 1 && r.v >= 0 && r.v <= 1;

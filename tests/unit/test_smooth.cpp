@@ -2,8 +2,10 @@
 #include <omp.h>
 #include <support/analytic_meshes.h>
 #include <vcg_ext/paper_smooth.h>
+#include <support/measures.h>
 
 using namespace vcg_ext;
+using test_meshes::meanEdge;
 
 namespace {
 
@@ -20,10 +22,6 @@ std::vector<Vec3> smoothed(const MeshArrays &mesh, const SmoothParams &params,
   const SmoothReport r = smoothMesh(mesh, params, out, q);
   if (report_out) *report_out = r;
   return out;
-}
-
-double meanEdge(const MeshArrays &m) {
-  return edgeStatistics(m.points, computeRings(int(m.points.size()), m.faces)).mean_edge_length;
 }
 
 } // namespace
