@@ -11,7 +11,6 @@
 #include <vcg_ext/auto_smooth.h>
 #include <vcg_ext/mesh_arrays.h>
 
-#include <chrono>
 #include <cstdio>
 #include <functional>
 #include <map>
@@ -30,7 +29,6 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   auto integer = [&](const std::string &name, int &x) { r[name] = [&x](double v) { x = int(v); }; };
   FeatureSmoothParams &f = p.feature;
   OrganicSmoothParams &o = p.organic;
-  for (auto *s : {&f.strength, &o.strength}) (void)s;
   r["strength"] = [&p](double v) { p.feature.strength = p.organic.strength = v; };
   integer("f.prepass_pairs", f.prepass_pairs);
   real("f.planar_extra", f.planar_extra);
@@ -105,11 +103,112 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   return r;
 }
 
+// The command line's settings (argv[3...]: name=value, mode=auto|feature|organic) into `params`
+// and `mode`; false, with a message, on one that is not a known name=value.
+bool readSettings(int argc, char **argv, const std::map<std::string, Setter> &names,
+                  AutoSmoothParams &params, std::string &mode) {
+  for (int a = 3; a < argc; ++a) {
+    const std::string arg = argv[a];
+    const size_t eq = arg.find('=');
+    const std::string name = arg.substr(0, eq);
+    if (eq == std::string::npos) {
+      std::fprintf(stderr, "auto_params: '%s' is not name=value\n", arg.c_str());
+      return false;
+    }
+    if (name == "mode") {
+      mode = arg.substr(eq + 1);
+      continue;
+    }
+    auto it = names.find(name);
+    if (it == names.end()) {
+      std::fprintf(stderr, "auto_params: unknown parameter '%s' (auto_params --list)\n",
+                   name.c_str());
+      return false;
+    }
+    if (name == "o.colour") {
+      std::stringstream list(arg.substr(eq + 1));
+      params.organic.bands.noise_colour.clear();
+      for (std::string x; std::getline(list, x, ',');)
+        params.organic.bands.noise_colour.push_back(std::stod(x));
+      continue;
+    }
+    it->second(std::stod(arg.substr(eq + 1)));
+  }
+  return true;
+}
+
+// What ran: the mode's letter (F, O, or C: measured clean) and the reports the figures come from.
+struct Run {
+  char ran = 'C';
+  AutoSmoothReport a;
+  FeatureSmoothReport f;
+  OrganicSmoothReport o;
+  const FeatureSmoothReport *feature = nullptr;
+  const OrganicSmoothReport *organic = nullptr;
+};
+
+void runMode(const std::string &mode, const MeshArrays &arrays, const AutoSmoothParams &params,
+             std::vector<Vec3> &result, VertexQuantities &quantities, Run &run) {
+  if (mode == "feature") {
+    run.f = featureSmoothMesh(arrays, params.feature, result, quantities);
+    run.feature = &run.f;
+    run.ran = run.f.amount > 0 ? 'F' : 'C';
+  } else if (mode == "organic") {
+    run.o = organicSmoothMesh(arrays, params.organic, result, quantities);
+    run.organic = &run.o;
+    run.ran = run.o.amount > 0 ? 'O' : 'C';
+  } else {
+    run.a = autoSmoothMesh(arrays, params, result, quantities);
+    if (run.a.decided && !run.a.chose_feature) {
+      run.ran = 'O';
+      run.organic = &run.a.organic;
+    } else {
+      run.ran = run.a.decided ? 'F' : 'C';
+      run.feature = &run.a.feature;
+    }
+  }
+}
+
+// The report's figures as one JSON line on stdout.
+void printFigures(const Run &run, double seconds, int faces) {
+  const FeatureSmoothReport *feature = run.feature;
+  const OrganicSmoothReport *organic = run.organic;
+  const AutoSmoothReport &a = run.a;
+  const NoiseEstimate &noise = feature ? feature->noise : organic->noise;
+  std::printf("{\"mode\": \"%c\", \"seconds\": %.4f, \"level\": %.4f, \"roughness\": %.4f, "
+              "\"spectrum\": [",
+              run.ran, seconds, noise.level, feature ? feature->roughness : organic->roughness);
+  for (size_t b = 0; b < noise.spectrum.size(); ++b)
+    std::printf("%s%.4f", b ? ", " : "", noise.spectrum[b]);
+  std::printf("], \"flat_share\": %.4f, \"confirmed_share\": %.4f, \"crease_pairs\": %ld",
+              a.evidence.flat_share, a.evidence.confirmed_share, a.evidence.crease_pairs);
+  std::printf(", \"tail\": %.4f, \"tail_factor\": %.4f", noise.tail,
+              feature ? feature->tail_factor : organic->tail_factor);
+  if (a.windowed)
+    std::printf(", \"windowed\": true, \"flat_error\": %.4f, \"confirmed_error\": %.4f, "
+                "\"window_face_share\": %.3f",
+                a.flat_error, a.confirmed_error, double(a.window_faces) / double(std::max(1, faces)));
+  if (organic) {
+    std::printf(", \"fine_snr\": %.3f, \"slope\": %.2f, \"coarse_snr\": %.2f",
+                organic->bands.fine_snr, organic->bands.shape_slope, organic->bands.coarse_snr);
+    std::printf(", \"fold_moves\": %ld", organic->fold_moves);
+    std::printf(", \"noise_edges\": %.4f, \"alpha\": %.3f, \"gains\": [",
+                organic->bands.noise_edges, organic->bands.alpha);
+    for (size_t b = 0; b < organic->bands.gains.size(); ++b)
+      std::printf("%s%.3f", b ? ", " : "", organic->bands.gains[b]);
+    std::printf("]");
+  }
+  if (feature)
+    std::printf(", \"prepass_pairs\": %d, \"normal_iterations\": %d, \"vertex_iterations\": %d",
+                feature->prepass_pairs, feature->normal_iterations, feature->vertex_iterations);
+  std::printf("}\n");
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
   AutoSmoothParams params;
-  auto names = registry(params);
+  const auto names = registry(params);
   if (argc == 2 && std::string(argv[1]) == "--list") {
     for (const auto &[name, set] : names) std::printf("%s\n", name.c_str());
     return 0;
@@ -120,95 +219,20 @@ int main(int argc, char **argv) {
     return 1;
   }
   std::string mode = "auto";
-  for (int a = 3; a < argc; ++a) {
-    const std::string arg = argv[a];
-    const size_t eq = arg.find('=');
-    const std::string name = arg.substr(0, eq);
-    if (eq == std::string::npos) {
-      std::fprintf(stderr, "auto_params: '%s' is not name=value\n", arg.c_str());
-      return 1;
-    }
-    if (name == "mode") {
-      mode = arg.substr(eq + 1);
-      continue;
-    }
-    auto it = names.find(name);
-    if (it == names.end()) {
-      std::fprintf(stderr, "auto_params: unknown parameter '%s' (auto_params --list)\n",
-                   name.c_str());
-      return 1;
-    }
-    if (name == "o.colour") {
-      std::stringstream list(arg.substr(eq + 1));
-      params.organic.bands.noise_colour.clear();
-      for (std::string x; std::getline(list, x, ',');) params.organic.bands.noise_colour.push_back(std::stod(x));
-      continue;
-    }
-    it->second(std::stod(arg.substr(eq + 1)));
-  }
+  if (!readSettings(argc, argv, names, params, mode)) return 1;
   tool_mesh::Mesh mesh;
   if (!tool_mesh::load(mesh, argv[1], "auto_params")) return 2;
   const MeshArrays arrays = extractArrays(mesh);
   std::vector<Vec3> result;
   VertexQuantities quantities;
-  const auto start = std::chrono::steady_clock::now();
-  char ran = 'C';
-  const FeatureSmoothReport *feature = nullptr;
-  const OrganicSmoothReport *organic = nullptr;
-  AutoSmoothReport a;
-  FeatureSmoothReport f;
-  OrganicSmoothReport o;
-  if (mode == "feature") {
-    f = featureSmoothMesh(arrays, params.feature, result, quantities);
-    feature = &f;
-    ran = f.amount > 0 ? 'F' : 'C';
-  } else if (mode == "organic") {
-    o = organicSmoothMesh(arrays, params.organic, result, quantities);
-    organic = &o;
-    ran = o.amount > 0 ? 'O' : 'C';
-  } else {
-    a = autoSmoothMesh(arrays, params, result, quantities);
-    if (a.decided) {
-      ran = a.chose_feature ? 'F' : 'O';
-      if (a.chose_feature) feature = &a.feature;
-      else organic = &a.organic;
-    } else {
-      feature = &a.feature;
-    }
-  }
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto start = Clock::now();
+  Run run;
+  runMode(mode, arrays, params, result, quantities, run);
+  const double seconds = secondsSince(start);
   if (result.size() != arrays.points.size()) result = arrays.points;
   writePositions(mesh, arrays, result);
   if (!tool_mesh::save(mesh, argv[2], "auto_params", false)) return 2;
-  const NoiseEstimate &noise = feature ? feature->noise : organic->noise;
-  std::fprintf(stderr, "mode: %c\n", ran);
-  std::printf("{\"mode\": \"%c\", \"seconds\": %.4f, \"level\": %.4f, \"roughness\": %.4f, "
-              "\"spectrum\": [",
-              ran, seconds, noise.level, feature ? feature->roughness : organic->roughness);
-  for (size_t b = 0; b < noise.spectrum.size(); ++b)
-    std::printf("%s%.4f", b ? ", " : "", noise.spectrum[b]);
-  std::printf("], \"flat_share\": %.4f, \"confirmed_share\": %.4f, \"crease_pairs\": %ld",
-              a.evidence.flat_share, a.evidence.confirmed_share, a.evidence.crease_pairs);
-  std::printf(", \"tail\": %.4f, \"tail_factor\": %.4f", noise.tail,
-              feature ? feature->tail_factor : organic->tail_factor);
-  if (a.windowed)
-    std::printf(", \"windowed\": true, \"flat_error\": %.4f, \"confirmed_error\": %.4f, "
-                "\"window_face_share\": %.3f",
-                a.flat_error, a.confirmed_error,
-                double(a.window_faces) / double(std::max(1, mesh.fn)));
-  if (organic) {
-    std::printf(", \"fine_snr\": %.3f, \"slope\": %.2f, \"coarse_snr\": %.2f", organic->bands.fine_snr, organic->bands.shape_slope, organic->bands.coarse_snr);
-    std::printf(", \"fold_moves\": %ld", organic->fold_moves);
-    std::printf(", \"noise_edges\": %.4f, \"alpha\": %.3f, \"gains\": [", organic->bands.noise_edges,
-                organic->bands.alpha);
-    for (size_t b = 0; b < organic->bands.gains.size(); ++b)
-      std::printf("%s%.3f", b ? ", " : "", organic->bands.gains[b]);
-    std::printf("]");
-  }
-  if (feature)
-    std::printf(", \"prepass_pairs\": %d, \"normal_iterations\": %d, \"vertex_iterations\": %d",
-                feature->prepass_pairs, feature->normal_iterations, feature->vertex_iterations);
-  std::printf("}\n");
+  std::fprintf(stderr, "mode: %c\n", run.ran);
+  printFigures(run, seconds, mesh.fn);
   return 0;
 }

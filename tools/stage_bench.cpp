@@ -15,7 +15,6 @@
 #include <vcg_ext/paper_smooth.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstring>
 #include <ctime>
 #include <fstream>
@@ -44,11 +43,10 @@ struct Timing {
 template <class F> Timing timeIt(int repeat, F &&f) {
   Timing t;
   for (int r = 0; r < repeat; ++r) {
-    const auto w0 = std::chrono::steady_clock::now();
+    const auto w0 = Clock::now();
     const double c0 = cpuSeconds();
     f();
-    t.add(std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count(),
-          cpuSeconds() - c0);
+    t.add(secondsSince(w0), cpuSeconds() - c0);
   }
   return t;
 }
@@ -92,13 +90,8 @@ std::vector<double> readDoubles(const std::string &path) {
   return v;
 }
 
-} // namespace
-
-int main(int argc, char **argv) {
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: stage_bench <mesh> [repeat=3] [stages=...] [save=p] [compare=p]\n");
-    return 1;
-  }
+// stage_bench's options: name=value (a bare name is name=1), over the defaults.
+std::map<std::string, std::string> readOptions(int argc, char **argv) {
   std::map<std::string, std::string> opt = {
       {"repeat", "3"}, {"stages", "rings,curvature,saliency,fit,paperfit,smooth"}};
   for (int k = 2; k < argc; ++k) {
@@ -106,27 +99,28 @@ int main(int argc, char **argv) {
     const size_t eq = a.find('=');
     opt[a.substr(0, eq)] = eq == std::string::npos ? "1" : a.substr(eq + 1);
   }
-  const int repeat = std::stoi(opt["repeat"]);
-  auto wants = [&](const char *stage) {
-    return ("," + opt["stages"] + ",").find(std::string(",") + stage + ",") != std::string::npos;
-  };
+  return opt;
+}
 
-  tool_mesh::Mesh vmesh;
-  if (!tool_mesh::load(vmesh, argv[1], "stage_bench")) return 2;
-  const MeshArrays mesh = extractArrays(vmesh);
+// The paper driver's parameters for "paperfit" and the saved paper positions: its placement and
+// α rule.
+SmoothParams paperParams() {
+  SmoothParams paper;
+  paper.placement = PlacementMode::Paper;
+  paper.alpha_override = false;
+  return paper;
+}
+
+// Times the stages `wants` names, `repeat` times each, and prints their medians.
+template <class Wants>
+void timeStages(const MeshArrays &mesh, Rings &rings, const EdgeStatistics &stats, int repeat,
+                Wants wants, bool load_only) {
   const int n = int(mesh.points.size());
-  Rings rings = computeRings(n, mesh.faces);
-  const EdgeStatistics stats = edgeStatistics(mesh.points, rings);
   const SmoothParams defaults;
   const double epsilon = defaults.saliency_scale * stats.bbox_diagonal;
-  std::printf("%s: %d vertices, %zu faces, mean edge %.4g, bbox diagonal %.4g, epsilon %.4g "
-              "(= %.2f mean edges)\n",
-              argv[1], n, mesh.faces.size(), stats.mean_edge_length, stats.bbox_diagonal, epsilon,
-              epsilon / stats.mean_edge_length);
-
   if (wants("rings")) report("rings", timeIt(repeat, [&] { rings = computeRings(n, mesh.faces); }), n);
   SurfaceAnalysis analysis;
-  if (opt["stages"] != "load") computeCurvature(mesh.points, mesh.faces, rings, analysis.curvature);
+  if (!load_only) computeCurvature(mesh.points, mesh.faces, rings, analysis.curvature);
   if (wants("normals"))
     report("normals", timeIt(repeat, [&] {
              computeVertexNormals(mesh.points, mesh.faces, rings, analysis.curvature.normal);
@@ -151,12 +145,9 @@ int main(int argc, char **argv) {
     report("fit", timeIt(repeat, [&] {
              fitSweep(mesh, rings, analysis, defaults, stats.mean_edge_length, next);
            }), n);
-  SmoothParams paper;
-  paper.placement = PlacementMode::Paper;
-  paper.alpha_override = false;
   if (wants("paperfit"))
     report("paperfit", timeIt(repeat, [&] {
-             fitSweep(mesh, rings, analysis, paper, stats.mean_edge_length, next);
+             fitSweep(mesh, rings, analysis, paperParams(), stats.mean_edge_length, next);
            }), n);
   if (wants("smooth")) {
     VertexQuantities q;
@@ -168,38 +159,71 @@ int main(int argc, char **argv) {
                 r.seconds_topology, r.seconds_curvature, r.seconds_saliency, r.seconds_fit,
                 defaults.iterations * n / Timing::median(t.wall) / 1e6);
   }
+}
 
-  if (opt.count("save") || opt.count("compare")) {
-    std::vector<double> sal_default, pos_default, pos_paper;
-    VertexQuantities q;
-    std::vector<Vec3> out;
-    smoothMesh(mesh, defaults, out, q);
-    for (const Vec3 &p : out) pos_default.insert(pos_default.end(), {p.x(), p.y(), p.z()});
-    sal_default = q.saliency;
-    paper.newton_step_limit = defaults.newton_step_limit;
-    smoothMesh(mesh, paper, out, q);
-    for (const Vec3 &p : out) pos_paper.insert(pos_paper.end(), {p.x(), p.y(), p.z()});
-    const std::pair<const char *, std::vector<double> *> files[] = {
-        {".pos", &pos_default}, {".sal", &sal_default}, {".paperpos", &pos_paper}};
-    for (const auto &[suffix, data] : files) {
-      if (opt.count("save")) writeDoubles(opt["save"] + suffix, data->data(), data->size());
-      if (opt.count("compare")) {
-        const std::vector<double> ref = readDoubles(opt["compare"] + suffix);
-        if (ref.size() != data->size()) {
-          std::printf("compare %s: size %zu vs %zu\n", suffix, ref.size(), data->size());
-          continue;
-        }
-        double max_abs = 0, sum_abs = 0, max_ref = 0;
-        for (size_t k = 0; k < ref.size(); ++k) {
-          max_abs = std::max(max_abs, std::abs(ref[k] - (*data)[k]));
-          sum_abs += std::abs(ref[k] - (*data)[k]);
-          max_ref = std::max(max_ref, std::abs(ref[k]));
-        }
-        std::printf("compare %-9s max |diff| %.3g (relative to max |value| %.3g), mean %.3g\n",
-                    suffix, max_abs, max_abs / std::max(max_ref, 1e-300),
-                    sum_abs / std::max<size_t>(ref.size(), 1));
-      }
-    }
+// Prints how far `data` is from the reference `ref` (largest and mean absolute difference).
+void compareDoubles(const char *suffix, const std::vector<double> &ref,
+                    const std::vector<double> &data) {
+  if (ref.size() != data.size()) {
+    std::printf("compare %s: size %zu vs %zu\n", suffix, ref.size(), data.size());
+    return;
   }
+  double max_abs = 0, sum_abs = 0, max_ref = 0;
+  for (size_t k = 0; k < ref.size(); ++k) {
+    max_abs = std::max(max_abs, std::abs(ref[k] - data[k]));
+    sum_abs += std::abs(ref[k] - data[k]);
+    max_ref = std::max(max_ref, std::abs(ref[k]));
+  }
+  std::printf("compare %-9s max |diff| %.3g (relative to max |value| %.3g), mean %.3g\n", suffix,
+              max_abs, max_abs / std::max(max_ref, 1e-300), sum_abs / std::max<size_t>(ref.size(), 1));
+}
+
+// save= / compare=: the smoothed positions (default and paper mode) and the default's saliency,
+// written as raw doubles or compared with such files.
+void saveOrCompare(const MeshArrays &mesh, std::map<std::string, std::string> &opt) {
+  std::vector<double> sal_default, pos_default, pos_paper;
+  VertexQuantities q;
+  std::vector<Vec3> out;
+  const SmoothParams defaults;
+  smoothMesh(mesh, defaults, out, q);
+  for (const Vec3 &p : out) pos_default.insert(pos_default.end(), {p.x(), p.y(), p.z()});
+  sal_default = q.saliency;
+  SmoothParams paper = paperParams();
+  paper.newton_step_limit = defaults.newton_step_limit;
+  smoothMesh(mesh, paper, out, q);
+  for (const Vec3 &p : out) pos_paper.insert(pos_paper.end(), {p.x(), p.y(), p.z()});
+  const std::pair<const char *, std::vector<double> *> files[] = {
+      {".pos", &pos_default}, {".sal", &sal_default}, {".paperpos", &pos_paper}};
+  for (const auto &[suffix, data] : files) {
+    if (opt.count("save")) writeDoubles(opt["save"] + suffix, data->data(), data->size());
+    if (opt.count("compare")) compareDoubles(suffix, readDoubles(opt["compare"] + suffix), *data);
+  }
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: stage_bench <mesh> [repeat=3] [stages=...] [save=p] [compare=p]\n");
+    return 1;
+  }
+  std::map<std::string, std::string> opt = readOptions(argc, argv);
+  const int repeat = std::stoi(opt["repeat"]);
+  auto wants = [&](const char *stage) {
+    return ("," + opt["stages"] + ",").find(std::string(",") + stage + ",") != std::string::npos;
+  };
+  tool_mesh::Mesh vmesh;
+  if (!tool_mesh::load(vmesh, argv[1], "stage_bench")) return 2;
+  const MeshArrays mesh = extractArrays(vmesh);
+  const int n = int(mesh.points.size());
+  Rings rings = computeRings(n, mesh.faces);
+  const EdgeStatistics stats = edgeStatistics(mesh.points, rings);
+  const double epsilon = SmoothParams().saliency_scale * stats.bbox_diagonal;
+  std::printf("%s: %d vertices, %zu faces, mean edge %.4g, bbox diagonal %.4g, epsilon %.4g "
+              "(= %.2f mean edges)\n",
+              argv[1], n, mesh.faces.size(), stats.mean_edge_length, stats.bbox_diagonal, epsilon,
+              epsilon / stats.mean_edge_length);
+  timeStages(mesh, rings, stats, repeat, wants, opt["stages"] == "load");
+  if (opt.count("save") || opt.count("compare")) saveOrCompare(mesh, opt);
   return 0;
 }
