@@ -172,9 +172,9 @@ void storeCurvatureDirections(MeshType &m, const vcg_ext::MeshArrays &arrays,
 
 // The log line of the per-vertex values stored clamped to the mesh's number range.
 inline std::string clampedLog(long clamped) {
-  return formatLine("%.0f per-vertex values were NaN or beyond the mesh's number range (a tiny mesh "
-                "or tiny faces): stored as 0 or the largest representable value.",
-                double(clamped));
+  return formatLine("%.0f per-vertex values were NaN or beyond the mesh's number range (a tiny "
+                    "mesh or tiny faces): stored as 0 or the largest representable value.",
+                    double(clamped));
 }
 
 // The analysis filter's log: what was computed and in what time, how many vertices are salient,

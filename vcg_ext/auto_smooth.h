@@ -229,8 +229,9 @@ inline std::string evidencePhrase(const AutoSmoothReport &r, size_t faces) {
                     r.evidence.confirmed_share, error(r.confirmed_error).c_str(), sample.c_str());
 }
 
-// The decision's own time: on windows, or (the whole mesh) the feature mode's first pass, which
-// the organic mode's log names since its own report does not hold it.
+// The decision's own time: on windows, the windows' evidence; on the whole mesh, the Taubin copy
+// and the evidence, and when the organic mode ran, also the feature mode's first pass the
+// decision took (the organic mode's own times do not include it).
 inline std::string decisionTimeLine(const AutoSmoothReport &r) {
   if (r.windowed)
     return formatLine("Time of the decision: shared topology %.3f s, evidence on windows %.3f s.",
