@@ -11,7 +11,8 @@ _PLY_TYPES = {"char": "i1", "uchar": "u1", "short": "i2", "ushort": "u2", "int":
 
 
 def read_ply(path):
-    """(vertex record array, (n,3) int64 triangles) of a PLY whose faces are triangles."""
+    """(vertex record array, (n,3) int64 triangles) of a PLY whose faces are triangles (none for
+    a point cloud); also the end-to-end tests' reader (tests/e2e/conftest.py)."""
     data = pathlib.Path(path).read_bytes()
     end = data.index(b"end_header") + len(b"end_header")
     end = data.index(b"\n", end) + 1
@@ -31,6 +32,8 @@ def read_ply(path):
         elif words[0] == "property" and element == "face" and words[1] == "list":
             face_types = (_PLY_TYPES[words[2]], _PLY_TYPES[words[3]])
         elif words[0] == "property" and element == "vertex":
+            if words[1] == "list":
+                raise ValueError(f"{path}: list property in the vertex element")
             props.append((words[2], _PLY_TYPES[words[1]]))
     if fmt == "ascii":
         rows = data[end:].decode("ascii").split("\n")
@@ -42,6 +45,8 @@ def read_ply(path):
         raise ValueError(f"{path}: unsupported PLY format {fmt}")
     dtype = np.dtype([(name, "<" + t) for name, t in props])
     vertices = np.frombuffer(data, dtype=dtype, count=count, offset=end)
+    if not (face_count and face_types):
+        return vertices, np.zeros((0, 3), dtype=np.int64)
     face_dtype = np.dtype([("n", "<" + face_types[0]), ("i", "<" + face_types[1], 3)])
     records = np.frombuffer(data, dtype=face_dtype, count=face_count,
                             offset=end + count * dtype.itemsize)
