@@ -858,7 +858,7 @@ TEST(BandShrinkStages, ProbeBandEnergyIsTheStepsEnergyOverTheCountedVertices) {
   const int n = int(s.mesh.points.size());
   // Each vertex's step is (1, 2, 2): squares 1, 4, 4 and a mean of 3.
   const std::vector<Vec3f> probe_previous(n, Vec3f(1, 2, 2)), probe(n, Vec3f::Zero());
-  BandShrinkParams params; // bands 0-1 and 1-2 pairs are trimmed at the median; band 3 (4-8) not
+  BandShrinkParams params; // bands up to 4 pairs (0-2) are trimmed at the median; band 3 (4-8) not
   params.robust_quantile = 0.5;
   detail::BandScaleSpace space;
   space.noise_energy.assign(4, -1.0);
