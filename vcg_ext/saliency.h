@@ -139,29 +139,27 @@ inline double gaussianWeightExp(double x) {
   return e;
 }
 
-// Gaussian-weighted means of the map around p at the `count` smallest σ (kSaliencySigmas[0 ..
-// count)) in one sweep over the grid. The points within the largest cut-off are gathered into a
-// buffer (squared distance, value), then every σ's weights and sums run over the buffer in loops
-// the compiler vectorises; the sums' order is fixed by the grid, so the result does not depend on
-// the thread count.
-inline void gaussianMeansSmallestSigmas(const UniformPointGrid &grid, const Vec3 &p, double epsilon,
-                                        int count, double *means) {
+// The Gaussian sums of one query at the `count` smallest σ (kSaliencySigmas[0 .. count)).
+// Points come in buffered chunks (squared distance, value); every σ's weights and sums then run
+// over the chunk in loops the compiler vectorises.
+struct GaussianSums {
+  static constexpr int kChunk = 128;
+  int count;
   double numerator[kSaliencySigmaCount] = {}, denominator[kSaliencySigmaCount] = {};
   double cutoff2[kSaliencySigmaCount], exponent[kSaliencySigmaCount]; // (2σ)², −1/2σ²
-  for (int s = 0; s < count; ++s) {
-    const double sigma = kSaliencySigmas[s] * epsilon;
-    cutoff2[s] = 4.0 * sigma * sigma;
-    exponent[s] = -0.5 / (sigma * sigma);
-  }
-  const double radius = 2 * kSaliencySigmas[count - 1] * epsilon;
-  const double radius2 = radius * radius;
-  constexpr int kChunk = 128;
-  double d2_in[kChunk], value_in[kChunk];
-  int k = 0; // points in the buffer
   double weight[kSaliencySigmaCount][kChunk];
-  // Adds the buffered points to every σ's sums, from the largest σ down: a σ whose double is also
+
+  GaussianSums(double epsilon, int sigma_count) : count(sigma_count) {
+    for (int s = 0; s < count; ++s) {
+      const double sigma = kSaliencySigmas[s] * epsilon;
+      cutoff2[s] = 4.0 * sigma * sigma;
+      exponent[s] = -0.5 / (sigma * sigma);
+    }
+  }
+
+  // Adds `buffered` points to every σ's sums, from the largest σ down: a σ whose double is also
   // summed takes that weight to the fourth power (exp(−t/(2k)²)⁴ = exp(−t/k²)) instead of an exp.
-  auto flush = [&](int buffered) {
+  void add(const double *d2_in, const double *value_in, int buffered) {
     for (int s = count - 1; s >= 0; --s) {
       const double cut = cutoff2[s], a = exponent[s];
       const int twice = kSaliencyDoubleSigma[s];
@@ -187,8 +185,22 @@ inline void gaussianMeansSmallestSigmas(const UniformPointGrid &grid, const Vec3
       numerator[s] += num;
       denominator[s] += den;
     }
-  };
+  }
 
+  // The vertex itself is always inside every cut-off, so no denominator is zero.
+  void means(double *out) const {
+    for (int s = 0; s < count; ++s)
+      out[s] = denominator[s] > 0 ? numerator[s] / denominator[s] : 0.0;
+  }
+};
+
+// Calls visit(first, end) for each row of grid cells along x that the ball of `radius` around p
+// reaches: the row's points in those cells, one contiguous range, in grid
+// order (so that sums over them do not depend on the thread count).
+template <class Visit>
+inline void forEachRowInBall(const UniformPointGrid &grid, const Vec3 &p, double radius,
+                             Visit &&visit) {
+  const double radius2 = radius * radius;
   const int z0 = grid.clampedCell(p.z() - radius, grid.origin.z(), grid.nz);
   const int z1 = grid.clampedCell(p.z() + radius, grid.origin.z(), grid.nz);
   const int y0 = grid.clampedCell(p.y() - radius, grid.origin.y(), grid.ny);
@@ -201,29 +213,39 @@ inline void gaussianMeansSmallestSigmas(const UniformPointGrid &grid, const Vec3
       const double y_lo = grid.origin.y() + iy * grid.cell;
       const double gap_yz = gap_z + squaredGap(p.y(), y_lo, y_lo + grid.cell);
       if (gap_yz >= radius2) continue;
-      // Only the x cells the sphere reaches in this row: one contiguous range of points.
       const double reach_x = std::sqrt(radius2 - gap_yz);
       const int x0 = grid.clampedCell(p.x() - reach_x, grid.origin.x(), grid.nx);
       const int x1 = grid.clampedCell(p.x() + reach_x, grid.origin.x(), grid.nx);
       const int row = (iz * grid.ny + iy) * grid.nx;
-      const GridPoint *q = grid.sorted.data() + grid.cell_start[row + x0];
-      const GridPoint *end = grid.sorted.data() + grid.cell_start[row + x1 + 1];
-      // The points within the largest cut-off, without a branch per point (k advances only past
-      // those); the buffer is summed when full and at the end.
-      for (; q != end; ++q) {
-        const double dx = q->x - p.x(), dy = q->y - p.y(), dz = q->z - p.z();
-        const double d2 = dx * dx + dy * dy + dz * dz;
-        d2_in[k] = d2;
-        value_in[k] = q->value;
-        k += d2 < radius2;
-        if (k == kChunk) flush(k), k = 0;
-      }
+      visit(grid.sorted.data() + grid.cell_start[row + x0],
+            grid.sorted.data() + grid.cell_start[row + x1 + 1]);
     }
   }
-  flush(k);
-  // The vertex itself is always inside every cut-off, so no denominator is zero.
-  for (int s = 0; s < count; ++s)
-    means[s] = denominator[s] > 0 ? numerator[s] / denominator[s] : 0.0;
+}
+
+// Gaussian-weighted means of the map around p at the `count` smallest σ (kSaliencySigmas[0 ..
+// count)) in one sweep over the grid: the points within the largest cut-off are gathered into a
+// buffer, summed (GaussianSums) when it is full and at the end.
+inline void gaussianMeansSmallestSigmas(const UniformPointGrid &grid, const Vec3 &p, double epsilon,
+                                        int count, double *means) {
+  GaussianSums sums(epsilon, count);
+  const double radius = 2 * kSaliencySigmas[count - 1] * epsilon;
+  const double radius2 = radius * radius;
+  double d2_in[GaussianSums::kChunk], value_in[GaussianSums::kChunk];
+  int k = 0; // points in the buffer
+  forEachRowInBall(grid, p, radius, [&](const GridPoint *q, const GridPoint *end) {
+    // Without a branch per point: k advances only past those within the cut-off.
+    for (; q != end; ++q) {
+      const double dx = q->x - p.x(), dy = q->y - p.y(), dz = q->z - p.z();
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      d2_in[k] = d2;
+      value_in[k] = q->value;
+      k += d2 < radius2;
+      if (k == GaussianSums::kChunk) sums.add(d2_in, value_in, k), k = 0;
+    }
+  });
+  sums.add(d2_in, value_in, k);
+  sums.means(means);
 }
 
 // Gaussian-weighted means of the map around p at all eight σ in one sweep.

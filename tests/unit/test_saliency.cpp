@@ -214,3 +214,41 @@ TEST(SaliencyStages, SigmasWhoseBallsHoldFewVerticesAreSummedExactly) {
   options.lattice_above_vertices = 0;
   EXPECT_EQ(detail::exactSigmaCount(grid.points, rings, active, edge, options), 0);
 }
+
+TEST(SaliencyStages, RowsInABallHoldEveryPointWithinItsRadiusOnce) {
+  const auto s = noisySphere();
+  std::vector<int> all(s.mesh.points.size());
+  for (size_t v = 0; v < all.size(); ++v) all[v] = int(v);
+  detail::UniformPointGrid grid;
+  grid.build(s.mesh.points, s.k2, all, 0.1);
+  const double radius = 0.25;
+  for (int v = 0; v < int(all.size()); v += 97) {
+    const Vec3 &p = s.mesh.points[v];
+    int inside = 0, visited = 0;
+    detail::forEachRowInBall(grid, p, radius,
+                             [&](const detail::GridPoint *q, const detail::GridPoint *end) {
+                               for (; q != end; ++q, ++visited)
+                                 inside += (Vec3(q->x, q->y, q->z) - p).squaredNorm() <
+                                           radius * radius;
+                             });
+    int expected = 0;
+    for (const Vec3 &x : s.mesh.points) expected += (x - p).squaredNorm() < radius * radius;
+    EXPECT_EQ(inside, expected) << v;
+    EXPECT_LT(visited, int(all.size()) / 2) << v; // rows near the ball only, not the whole grid
+  }
+}
+
+TEST(SaliencyStages, GaussianSumsOfChunksAreTheMeansOfAllPoints) {
+  // Three points at squared distances 0, σ² and 5σ² from the query (σ = 2ε, the smallest): the
+  // last is outside the 2σ cut-off. Added in two chunks, the mean is the weighted mean of the two
+  // inside: (1·1 + e^−1/2·3) / (1 + e^−1/2).
+  const double epsilon = 0.5, sigma = detail::kSaliencySigmas[0] * epsilon;
+  detail::GaussianSums sums(epsilon, 1);
+  const double d2[] = {0, sigma * sigma, 5 * sigma * sigma}, value[] = {1, 3, 100};
+  sums.add(d2, value, 1);
+  sums.add(d2 + 1, value + 1, 2);
+  double mean = 0;
+  sums.means(&mean);
+  const double w = std::exp(-0.5);
+  EXPECT_NEAR(mean, (1 + 3 * w) / (1 + w), 1e-13);
+}
