@@ -195,8 +195,8 @@ struct GaussianSums {
 };
 
 // Calls visit(first, end) for each row of grid cells along x that the ball of `radius` around p
-// reaches: the row's points in those cells, one contiguous range, in grid
-// order (so that sums over them do not depend on the thread count).
+// reaches, with the points of the row's cells the ball reaches (one contiguous range), in grid
+// order: sums over them do not depend on the thread count.
 template <class Visit>
 inline void forEachRowInBall(const UniformPointGrid &grid, const Vec3 &p, double radius,
                              Visit &&visit) {
