@@ -297,8 +297,9 @@ print(json.dumps(events))
     assert percents == sorted(percents), events
     within = [p for s, p in zip(stages, percents) if s == "smoothing" and 5 < p < 95]
     assert len(within) >= 5, events  # the filter's own percentages, not just its start and end
-    assert max(b - a for a, b in zip(percents, percents[1:])) <= 10 + 1e-9 or \
-        max(b - a for a, b in zip([5] + within, within + [95])) <= 20, events
+    # No gap wider than 10 points plus the filter's own largest step (it reports every few
+    # percent; its normal filter's stage is one step of about 17 % of the filter, 15 of the job).
+    assert max(b - a for a, b in zip(percents, percents[1:])) <= 25, events
 
 
 def test_batch_options_are_the_filter_parameters(venv, mesh_folder, tmp_path):
