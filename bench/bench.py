@@ -771,7 +771,7 @@ def targets_section(timing):
                  "double copy of the mesh with CSR 1- and 2-rings and Jacobi position buffers, "
                  "which on large meshes alone exceed 0.5 × a load+save run (compare MeshLab's own Taubin "
                  "in the column before last). The per-array budget, the profile of every "
-                 "stage and what would close each gap are in [bench/PERFORMANCE.md](PERFORMANCE.md).")
+                 "stage and what would close each gap are in [docs/studies/performance.md](../docs/studies/performance.md).")
     return "\n".join(L)
 
 
@@ -1042,6 +1042,7 @@ def write_between_markers(path, begin, end, lines):
     """Replaces the text between the `begin` and `end` marker lines of a hand-written report with
     `lines` (appends the block, markers included, when the file has none)."""
     path = pathlib.Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
     block = begin + "\n" + "\n".join(lines) + "\n" + end
     text = path.read_text() if path.exists() else ""
     start, stop = text.find(begin), text.find(end)

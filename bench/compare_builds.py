@@ -1,15 +1,15 @@
 #!/usr/bin/env python3
 """tools/smooth_mesh of two builds (with no parameters: the default, the automatic mode) side by
 side, on the sets the scanner-noise work is judged on; for checking a change of defaults against the build it
-replaces (bench/SCANNER_METHOD.md).
+replaces (docs/studies/scanner-noise.md).
 
     python3 bench/compare_builds.py --new build --old ../main/build [--sets public,clean,...]
                                     [name=value ...]   (smooth_mesh parameters for both)
 
-Sets (cases as bench/method_sweep.py and bench/scanner_holdout.py make them):
+Sets (cases as bench/studies/method_sweep.py and bench/studies/scanner_holdout.py make them):
 - public: the benchmark's five noisy cases; clean: the benchmark's clean meshes and the paper's
   models (θ of the result against the input: a clean mesh should come back unchanged);
-- scanner: bench/scanner_noise.py's twelve cases; holdout: bench/scanner_holdout.py's twelve
+- scanner: bench/scanner_noise.py's twelve cases; holdout: bench/studies/scanner_holdout.py's twelve
   meshes and noise (no rule was fitted on them);
 - light: add_noise 0.05 / 0.1 mean edge lengths in random directions on Bunny, cow, Fandisk, camel;
 - real: the three real scans (mean displacement in mean edge lengths, bench/noref.py, and median
@@ -26,7 +26,8 @@ import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+sys.path[:0] = [str(pathlib.Path(__file__).resolve().parent),  # bench/ and the case sets of
+                str(pathlib.Path(__file__).resolve().parent / "studies")]  # bench/studies/
 import meshio  # noqa: E402
 import method_sweep  # noqa: E402
 import noref  # noqa: E402

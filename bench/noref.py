@@ -2,7 +2,7 @@
 
 - median dihedral spread (degrees): per face, the largest minus the smallest signed dihedral angle
   across its three edges, median over the faces with three neighbours (the definition of
-  vcg_ext/normal_filter.h's medianDihedralSpreadDeg, re-implemented here so that the figure does
+  vcg_ext/methods/feature/normal_filter.h's medianDihedralSpreadDeg, re-implemented here so that the figure does
   not depend on the plugin being measured). Curvature bends a face's three edges alike (a sphere:
   all equal, spread near 0), noise bends them at random, convex and concave: the spread measures
   noise, not shape. Smoothing that removes noise lowers it; it cannot tell noise from fine relief,

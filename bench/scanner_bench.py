@@ -131,12 +131,12 @@ def collect(runner, case, quick):
 
 def peer_script_arguments(doc, script):
     """The command line of the scripts that run this comparison on other cases
-    (bench/scanner_holdout.py, bench/heavy_noise.py), and the command to quote in their report."""
+    (bench/studies/scanner_holdout.py, bench/studies/heavy_noise.py), and the command to quote in their report."""
     ap = argparse.ArgumentParser(description=doc.split("\n")[0])
     ap.add_argument("--build", default=os.environ.get("SBS_BUILD_DIR", str(REPO / "build")))
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--quick", action="store_true")
-    ap.add_argument("--out", default=str(REPO / "bench" / "SCANNER_METHOD.md"))
+    ap.add_argument("--out", default=str(REPO / "bench" / "out" / "studies" / "SCANNER_METHOD.md"))
     args = ap.parse_args()
     cmd = f"python3 {script}" + (" --quick" if args.quick else "") + \
         (f" --build {args.build}" if args.build != str(REPO / "build") else "")

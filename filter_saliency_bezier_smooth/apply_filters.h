@@ -11,7 +11,7 @@
 #include <vcg/complex/algorithms/update/color.h>
 #include <vcg/complex/algorithms/update/normal.h>
 #include <vcg/complex/complex.h>
-#include <vcg_ext/display_scale.h>
+#include <vcg_ext/analysis/display_scale.h>
 #include <vcg_ext/methods.h>
 
 #include <cmath>

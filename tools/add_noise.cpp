@@ -5,8 +5,8 @@
 //   add_noise <in> <out.ply> <k> <normal|random> [seed]
 #include "tool_mesh.h"
 
-#include <vcg_ext/curvature.h>
-#include <vcg_ext/rings.h>
+#include <vcg_ext/analysis/curvature.h>
+#include <vcg_ext/core/rings.h>
 
 #include <random>
 

@@ -1,5 +1,5 @@
-// auto_params: runs the automatic mode (vcg_ext/auto_smooth.h), or one of its two drivers, with
-// internal parameters set on the command line, to measure parameter choices (bench/SCANNER_METHOD.md).
+// auto_params: runs the automatic mode (vcg_ext/methods/automatic/auto_smooth.h), or one of its two drivers, with
+// internal parameters set on the command line, to measure parameter choices (docs/studies/scanner-noise.md).
 // The filter itself never reads these: its defaults are the structs' defaults.
 //
 //   auto_params <in> <out.ply> [mode=auto|feature|organic] [name=value ...]
@@ -8,8 +8,8 @@
 // JSON line on stdout (the last line), the summary on stderr.
 #include "tool_mesh.h"
 
-#include <vcg_ext/auto_smooth.h>
-#include <vcg_ext/mesh_arrays.h>
+#include <vcg_ext/methods/automatic/auto_smooth.h>
+#include <vcg_ext/core/mesh_arrays.h>
 
 #include <cstdio>
 #include <functional>

@@ -3,11 +3,11 @@
 //   mesh_compare <result.ply|off|obj|stl> <reference.ply|off|obj|stl>
 //   mesh_compare --volume <mesh>
 //
-// Prints one JSON object on stdout (metrics: vcg_ext/mesh_metrics.h; null = not applicable).
+// Prints one JSON object on stdout (metrics: vcg_ext/analysis/mesh_metrics.h; null = not applicable).
 // Exit code 2, with the reason on stderr, for unreadable files or meshes that do not share
 // connectivity; 1 for bad usage.
-#include <vcg_ext/mesh_arrays.h>
-#include <vcg_ext/mesh_metrics.h>
+#include <vcg_ext/core/mesh_arrays.h>
+#include <vcg_ext/analysis/mesh_metrics.h>
 
 #include <vcg/complex/complex.h>
 #include <wrap/io_trimesh/import.h>

@@ -1,10 +1,10 @@
-// noise_probe: the noise estimate of vcg_ext/noise_estimate.h for a list of meshes, one JSON line
-// per mesh (bench/noise_estimate.py reads them).
+// noise_probe: the noise estimate of vcg_ext/analysis/noise_estimate.h for a list of meshes, one JSON line
+// per mesh (bench/studies/noise_estimate.py reads them).
 //
 //   noise_probe <mesh> [<mesh> ...]
 #include "tool_mesh.h"
 
-#include <vcg_ext/noise_estimate.h>
+#include <vcg_ext/analysis/noise_estimate.h>
 
 #include <chrono>
 

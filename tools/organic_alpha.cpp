@@ -1,6 +1,6 @@
-// organic_alpha: runs the organic mode (vcg_ext/organic_smooth.h) with its over-subtraction α
+// organic_alpha: runs the organic mode (vcg_ext/methods/organic/organic_smooth.h) with its over-subtraction α
 // chosen from the mesh and with given fixed values, to measure how well the choice does
-// (bench/alpha_choice.py).
+// (bench/studies/alpha_choice.py).
 //
 //   organic_alpha <noisy mesh> <output prefix> <alpha>[,<alpha>...]
 //
@@ -9,8 +9,8 @@
 // (shape spectrum slope, fine- and coarse-band shape/noise ratios, noise in mean edge lengths).
 #include "tool_mesh.h"
 
-#include <vcg_ext/mesh_arrays.h>
-#include <vcg_ext/organic_smooth.h>
+#include <vcg_ext/core/mesh_arrays.h>
+#include <vcg_ext/methods/organic/organic_smooth.h>
 
 #include <cstdio>
 #include <sstream>

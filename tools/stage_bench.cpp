@@ -1,4 +1,4 @@
-// stage_bench: per-stage timings of the smoothing filter's core on one mesh (bench/PERFORMANCE.md).
+// stage_bench: per-stage timings of the smoothing filter's core on one mesh (docs/studies/performance.md).
 //
 //   stage_bench <mesh> [repeat=3] [stages=rings,curvature,saliency,fit,paperfit,smooth]
 //               [save=<prefix>] [compare=<prefix>] [exact_saliency=0|1]
@@ -12,7 +12,7 @@
 // how the before/after identity of each optimisation is checked.
 #include "tool_mesh.h"
 
-#include <vcg_ext/paper_smooth.h>
+#include <vcg_ext/methods/paper/paper_smooth.h>
 
 #include <algorithm>
 #include <cstring>

@@ -9,10 +9,10 @@
 // quality choice.
 #pragma once
 
-#include "auto_smooth.h"
-#include "feature_smooth.h"
-#include "organic_smooth.h"
-#include "paper_smooth.h"
+#include "vcg_ext/methods/automatic/auto_smooth.h"
+#include "vcg_ext/methods/feature/feature_smooth.h"
+#include "vcg_ext/methods/organic/organic_smooth.h"
+#include "vcg_ext/methods/paper/paper_smooth.h"
 
 #include <array>
 

@@ -67,7 +67,7 @@ def load(pymeshlab, path):
 
 
 def display_percentile(values):
-    """vcg_ext/display_scale.h's 99th percentile: the nearest rank."""
+    """vcg_ext/analysis/display_scale.h's 99th percentile: the nearest rank."""
     return np.sort(values)[int(0.99 * (len(values) - 1) + 0.5)]
 
 
@@ -105,12 +105,12 @@ def test_smoothing_fandisk_with_defaults(pymeshlab, tmp_path, shared):
     n = mesh.vertex_number()
     saliency = mesh.vertex_custom_scalar_attribute_array("Saliency")
     assert len(saliency) == n == 6475
-    # Saliency is divided by its maximum (0 keeps meaning "not salient", vcg_ext/saliency.h), so
+    # Saliency is divided by its maximum (0 keeps meaning "not salient", vcg_ext/analysis/saliency.h), so
     # the maximum is 1 and the minimum is >= 0 but not 0 here (measured 0.0043).
     assert saliency.max() == pytest.approx(1.0, abs=1e-6)
     assert saliency.min() >= 0.0
     # Default "Store in vertex quality": Saliency on its display scale (over its 99th percentile,
-    # clipped at 1: vcg_ext/display_scale.h).
+    # clipped at 1: vcg_ext/analysis/display_scale.h).
     np.testing.assert_allclose(mesh.vertex_scalar_array(),
                                np.clip(saliency / display_percentile(saliency), 0, 1),
                                rtol=0, atol=1e-12)

@@ -258,7 +258,7 @@ def test_batch_folder_in_processes_and_on_dask(venv, mesh_folder):
         assert len(report) == 22
         assert {str(p) for p, r in report.items() if r["status"] != "ok"} == {
             "huge.ply", "points_only.ply"}
-        # The automatic mode's choice, as in bench/FEATURE_MODE.md: CAD parts -> feature mode.
+        # The automatic mode's choice, as in docs/studies/feature-mode.md: CAD parts -> feature mode.
         for k in ("fandisk_0.ply", "block_1.off", "twelve_2.obj"):
             assert report[pathlib.Path(k)]["method"] == "feature-preserving", report[pathlib.Path(k)]
         assert report[pathlib.Path("cow_0.ply")]["method"] == "organic"

@@ -1,8 +1,8 @@
 // Meshes of analytic surfaces with known curvature, as plain arrays, for the unit tests.
 #pragma once
 
-#include <vcg_ext/curvature.h>
-#include <vcg_ext/mesh_arrays.h>
+#include <vcg_ext/analysis/curvature.h>
+#include <vcg_ext/core/mesh_arrays.h>
 
 #include <algorithm>
 #include <array>

@@ -2,10 +2,10 @@
 // mesh, the largest move between two sets of positions, and a Bézier patch of known curvature.
 #pragma once
 
-#include <vcg_ext/bezier_patch.h>
-#include <vcg_ext/mesh_arrays.h>
-#include <vcg_ext/mesh_metrics.h>
-#include <vcg_ext/rings.h>
+#include <vcg_ext/methods/paper/bezier_patch.h>
+#include <vcg_ext/core/mesh_arrays.h>
+#include <vcg_ext/analysis/mesh_metrics.h>
+#include <vcg_ext/core/rings.h>
 
 #include <algorithm>
 #include <vector>

@@ -11,7 +11,7 @@
 
 #include <tools/tool_mesh.h>
 #include <vcg/complex/algorithms/update/normal.h>
-#include <vcg_ext/mesh_arrays.h>
+#include <vcg_ext/core/mesh_arrays.h>
 
 #include <cstddef>
 #include <string>

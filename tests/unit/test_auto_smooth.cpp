@@ -1,12 +1,12 @@
-// The automatic mode: the sharp-feature evidence of vcg_ext/mode_choice.h (closed-form counts on a
+// The automatic mode: the sharp-feature evidence of vcg_ext/methods/automatic/mode_choice.h (closed-form counts on a
 // box, no confirmed creases on a sphere whose normals were made staircase) and the driver of
-// vcg_ext/auto_smooth.h (a noisy box goes to the feature mode and a noisy sphere to the organic
+// vcg_ext/methods/automatic/auto_smooth.h (a noisy box goes to the feature mode and a noisy sphere to the organic
 // mode, with the chosen mode's exact result; the decision does not depend on thread count or
 // vertex order; progress only grows and cancel stops).
 #include <gtest/gtest.h>
 #include <omp.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/auto_smooth.h>
+#include <vcg_ext/methods/automatic/auto_smooth.h>
 #include <support/measures.h>
 
 using namespace vcg_ext;

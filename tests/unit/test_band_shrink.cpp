@@ -1,5 +1,5 @@
-// The organic mode: the noise estimate and band shrinkage of vcg_ext/band_shrink.h, and the driver
-// of vcg_ext/organic_smooth.h (clean meshes stay put, random-direction noise is removed about as
+// The organic mode: the noise estimate and band shrinkage of vcg_ext/methods/organic/band_shrink.h, and the driver
+// of vcg_ext/methods/organic/organic_smooth.h (clean meshes stay put, random-direction noise is removed about as
 // well as Taubin at its best step count, volume and open boundaries are kept, the result does not
 // depend on thread count or vertex order).
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/organic_smooth.h>
+#include <vcg_ext/methods/organic/organic_smooth.h>
 #include <support/measures.h>
 
 using namespace vcg_ext;

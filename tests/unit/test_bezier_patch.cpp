@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
-#include <vcg_ext/bezier_patch.h>
-#include <vcg_ext/placement.h>
-#include <vcg_ext/uniform_curvature.h>
+#include <vcg_ext/methods/paper/bezier_patch.h>
+#include <vcg_ext/methods/paper/placement.h>
+#include <vcg_ext/methods/paper/uniform_curvature.h>
 
 #include <Eigen/Dense>
 #include <cstdlib>

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/curvature.h>
+#include <vcg_ext/analysis/curvature.h>
 
 using namespace vcg_ext;
 

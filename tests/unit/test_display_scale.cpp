@@ -1,10 +1,10 @@
-// vcg_ext/display_scale.h: the display scales of vertex quality (closed-form values, order
+// vcg_ext/analysis/display_scale.h: the display scales of vertex quality (closed-form values, order
 // independence, non-finite inputs) and, on a clean box, that saliency's display scale spreads the
 // values MeshLab's full-range colour map sees.
 #include <gtest/gtest.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/display_scale.h>
-#include <vcg_ext/surface_analysis.h>
+#include <vcg_ext/analysis/display_scale.h>
+#include <vcg_ext/analysis/surface_analysis.h>
 
 #include <algorithm>
 #include <cmath>

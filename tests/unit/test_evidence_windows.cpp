@@ -1,11 +1,11 @@
-// The automatic choice's evidence from windows of a large mesh (vcg_ext/evidence_windows.h): the
+// The automatic choice's evidence from windows of a large mesh (vcg_ext/methods/automatic/evidence_windows.h): the
 // windows' core faces get the whole mesh's first-pass normals bit for bit (closed and open meshes),
 // windows that cover the whole mesh give the whole mesh's evidence exactly, windows are refused
 // when they would take too much of the mesh, and the seeds do not depend on the thread count.
 #include <gtest/gtest.h>
 #include <omp.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/evidence_windows.h>
+#include <vcg_ext/methods/automatic/evidence_windows.h>
 
 #include <cstring>
 

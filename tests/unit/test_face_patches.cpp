@@ -1,8 +1,8 @@
-// Feature mode, stage B (vcg_ext/face_patches.h): the per-face height patch, its thin-plate term and
+// Feature mode, stage B (vcg_ext/methods/feature/face_patches.h): the per-face height patch, its thin-plate term and
 // the vertex update onto the patches of a vertex's faces.
 #include <gtest/gtest.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/face_patches.h>
+#include <vcg_ext/methods/feature/face_patches.h>
 
 using namespace vcg_ext;
 

@@ -1,12 +1,12 @@
-// The feature-preserving mode's driver (vcg_ext/feature_smooth.h): sharp edges survive normal noise,
+// The feature-preserving mode's driver (vcg_ext/methods/feature/feature_smooth.h): sharp edges survive normal noise,
 // clean meshes stay put, volume and open boundaries are kept, and the result does not depend on
 // thread count or vertex order.
 #include <gtest/gtest.h>
 #include <omp.h>
 #include <algorithm>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/feature_smooth.h>
-#include <vcg_ext/paper_smooth.h>
+#include <vcg_ext/methods/feature/feature_smooth.h>
+#include <vcg_ext/methods/paper/paper_smooth.h>
 #include <support/measures.h>
 
 using namespace vcg_ext;

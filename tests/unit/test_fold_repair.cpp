@@ -1,8 +1,8 @@
-// vcg_ext/fold_repair.h: a vertex slid past its neighbours (a folded star) goes back to its ring's
+// vcg_ext/methods/organic/fold_repair.h: a vertex slid past its neighbours (a folded star) goes back to its ring's
 // barycentre; unfolded stars, a cube's corners and edges included, stay exactly where they are.
 #include <gtest/gtest.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/fold_repair.h>
+#include <vcg_ext/methods/organic/fold_repair.h>
 
 using namespace vcg_ext;
 

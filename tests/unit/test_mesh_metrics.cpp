@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/mesh_metrics.h>
+#include <vcg_ext/analysis/mesh_metrics.h>
 
 #include <vcg/complex/complex.h>
 #include <wrap/io_trimesh/import.h>

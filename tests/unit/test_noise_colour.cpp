@@ -1,10 +1,10 @@
-// The noise's colour (vcg_ext/noise_estimate.h: correlated_level, noiseColour) and what the
+// The noise's colour (vcg_ext/analysis/noise_estimate.h: correlated_level, noiseColour) and what the
 // drivers do with it: band_shrink.h's coloured noise and trimmed (robust) band energies, the
 // feature mode's extra iterations on planar meshes (feature_smooth.h).
 #include <gtest/gtest.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/feature_smooth.h>
-#include <vcg_ext/organic_smooth.h>
+#include <vcg_ext/methods/feature/feature_smooth.h>
+#include <vcg_ext/methods/organic/organic_smooth.h>
 
 #include <random>
 #include <support/measures.h>

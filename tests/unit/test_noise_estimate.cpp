@@ -1,10 +1,10 @@
-// The noise estimate of vcg_ext/noise_estimate.h: smooth analytic surfaces read clean, added noise
+// The noise estimate of vcg_ext/analysis/noise_estimate.h: smooth analytic surfaces read clean, added noise
 // of known std reads noisy with a level near the truth (white and correlated over a few rings),
 // the result does not depend on scale, placement or vertex order, and degenerate input does not
 // crash.
 #include <gtest/gtest.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/noise_estimate.h>
+#include <vcg_ext/analysis/noise_estimate.h>
 
 #include <random>
 #include <support/measures.h>

@@ -1,11 +1,11 @@
-// The noise estimate on windows of a large mesh (vcg_ext/noise_windows.h): its figures are the
+// The noise estimate on windows of a large mesh (vcg_ext/analysis/noise_windows.h): its figures are the
 // whole mesh's measured over the windows' cores, bit for bit (closed and open meshes), close to
 // the whole mesh's own, the same for any thread count, and a mesh too small for windows is left to
 // the whole-mesh estimate.
 #include <gtest/gtest.h>
 #include <omp.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/noise_windows.h>
+#include <vcg_ext/analysis/noise_windows.h>
 
 using namespace vcg_ext;
 

@@ -1,10 +1,10 @@
-// Feature mode, stage A (vcg_ext/normal_filter.h): face geometry and rings, the noise estimate, the
+// Feature mode, stage A (vcg_ext/methods/feature/normal_filter.h): face geometry and rings, the noise estimate, the
 // Taubin pre-pass and guided / bilateral normal filtering.
 #include <gtest/gtest.h>
 #include <omp.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/mesh_metrics.h>
-#include <vcg_ext/normal_filter.h>
+#include <vcg_ext/analysis/mesh_metrics.h>
+#include <vcg_ext/methods/feature/normal_filter.h>
 
 #include <random>
 

@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <vcg_ext/placement.h>
+#include <vcg_ext/methods/paper/placement.h>
 
 #include <cmath>
 #include <random>

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/rings.h>
+#include <vcg_ext/core/rings.h>
 
 using namespace vcg_ext;
 

@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/curvature.h>
-#include <vcg_ext/saliency.h>
+#include <vcg_ext/analysis/curvature.h>
+#include <vcg_ext/analysis/saliency.h>
 
 using namespace vcg_ext;
 

@@ -1,11 +1,11 @@
-// The lattice evaluation of saliency's Gaussian means (vcg_ext/saliency_lattice.h) against the
+// The lattice evaluation of saliency's Gaussian means (vcg_ext/analysis/saliency_lattice.h) against the
 // exact sums, and the fast saliency against the exact one on a mesh large enough to use it.
 #include <gtest/gtest.h>
 #include <random>
 #include <omp.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/curvature.h>
-#include <vcg_ext/saliency.h>
+#include <vcg_ext/analysis/curvature.h>
+#include <vcg_ext/analysis/saliency.h>
 
 using namespace vcg_ext;
 

@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <vcg_ext/small_ldlt.h>
+#include <vcg_ext/core/small_ldlt.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/paper_smooth.h>
+#include <vcg_ext/methods/paper/paper_smooth.h>
 #include <support/measures.h>
 
 using namespace vcg_ext;

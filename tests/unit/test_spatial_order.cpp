@@ -1,13 +1,13 @@
-// vcg_ext/spatial_order.h and spatial_taubin.h: the spatially reordered copy of a mesh is the same
+// vcg_ext/core/spatial_order.h and spatial_taubin.h: the spatially reordered copy of a mesh is the same
 // mesh (faces, orientation, selection) and the same for any input order; Taubin smoothing over a
 // renumbered copy of the 1-ring graph gives taubinSmooth's result to the bit (interior, boundary
 // curves, fixed vertices, several fields at once) and puts mesh neighbours near each other.
 #include <gtest/gtest.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/normal_filter.h>
-#include <vcg_ext/paper_smooth.h>
-#include <vcg_ext/spatial_taubin.h>
-#include <vcg_ext/taubin_chebyshev.h>
+#include <vcg_ext/methods/feature/normal_filter.h>
+#include <vcg_ext/methods/paper/paper_smooth.h>
+#include <vcg_ext/smoothing/spatial_taubin.h>
+#include <vcg_ext/smoothing/taubin_chebyshev.h>
 
 #include <omp.h>
 #include <random>
@@ -41,6 +41,44 @@ double meanIndexDistance(const MeshArrays &m, const std::function<int(int)> &ind
 }
 
 } // namespace
+
+TEST(RingGraph, KindsAndAveragesFollowTheRingsInAnyLocalOrder) {
+  CylinderGraph g;
+  int still = 0; // an interior vertex made to stay
+  while (g.rings.boundary[still]) ++still;
+  std::vector<std::uint8_t> fixed(g.n, 0);
+  fixed[still] = 1;
+  const RingGraph graph(g.m.points, g.rings, fixed, g.roles.boundary_neighbours);
+  ASSERT_EQ(graph.size(), g.n);
+  const std::vector<Vec3> local = graph.toLocal(g.m.points);
+  EXPECT_EQ(graph.toGlobal(local), g.m.points); // a permutation and its inverse
+  int curves = 0, interiors = 0;
+  for (int v = 0; v < g.n; ++v) {
+    const int l = graph.local(v);
+    EXPECT_EQ(local[l], g.m.points[v]);
+    const RingGraph::Kind kind = graph.kindOf(l, false);
+    const Vec3 mean = graph.average(local, l, kind);
+    if (v == still) {
+      EXPECT_EQ(kind, RingGraph::Kind::Still);
+      EXPECT_EQ(mean, g.m.points[v]);
+    } else if (g.rings.boundary[v]) {
+      ++curves;
+      EXPECT_EQ(kind, RingGraph::Kind::Curve);
+      EXPECT_EQ(graph.kindOf(l, true), RingGraph::Kind::Still); // boundary_still
+      const auto &c = g.roles.boundary_neighbours[v];
+      EXPECT_EQ(mean, Vec3(0.5 * (g.m.points[c[0]] + g.m.points[c[1]])));
+    } else {
+      ++interiors;
+      EXPECT_EQ(kind, RingGraph::Kind::Interior);
+      Vec3 sum = Vec3::Zero(); // in the ring's order: the same bits
+      for (const int *w = g.rings.ring1Begin(v); w != g.rings.ring1End(v); ++w)
+        sum += g.m.points[*w];
+      EXPECT_EQ(mean, Vec3(sum / double(g.rings.ring1Size(v))));
+    }
+  }
+  EXPECT_EQ(curves, 2 * 48); // the cylinder's two boundary circles
+  EXPECT_EQ(interiors, g.n - 2 * 48 - 1);
+}
 
 TEST(SpatialTaubin, SameBitsAsTaubinSmoothWithBoundariesAndFixedVertices) {
   const CylinderGraph g;

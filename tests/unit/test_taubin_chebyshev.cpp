@@ -1,14 +1,14 @@
-// vcg_ext/taubin_chebyshev.h and SpatialTaubin::applyChebyshev: the series is Taubin's pair
+// vcg_ext/smoothing/taubin_chebyshev.h and SpatialTaubin::applyChebyshev: the series is Taubin's pair
 // response (exactly for one pair, within the tolerance for many), its Clenshaw evaluation on a mesh
 // gives the pairs' result to within the tolerance times the mesh's extent (boundary curves, fixed
 // vertices, boundary_still, two fields), still vertices keep their bits, and the result does not
 // depend on the thread count or on where the mesh lies.
 #include <gtest/gtest.h>
 #include <support/analytic_meshes.h>
-#include <vcg_ext/normal_filter.h>
-#include <vcg_ext/spatial_taubin.h>
-#include <vcg_ext/taubin_chebyshev.h>
-#include <vcg_ext/vertex_roles.h>
+#include <vcg_ext/methods/feature/normal_filter.h>
+#include <vcg_ext/smoothing/spatial_taubin.h>
+#include <vcg_ext/smoothing/taubin_chebyshev.h>
+#include <vcg_ext/core/vertex_roles.h>
 
 #include <omp.h>
 

@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <vcg_ext/uniform_curvature.h>
+#include <vcg_ext/methods/paper/uniform_curvature.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
