@@ -45,6 +45,8 @@ DEFAULTS = dict(
     distance=2.0,       # camera to bounding-box centre, in bbox diagonals
     corr_steps=6,       # graph-Laplacian smoothing steps of the correlated part
     white=0.1,          # share of the variance that is per-vertex (uncorrelated)
+    broad=0.0,          # share correlated over broad_steps steps (the "red" set-ups: 0.45)
+    broad_steps=50,
     quant=1.75,         # depth step / noise std at the reference depth (K&E 2012: 7 cm / 4 cm)
     grazing=0.05,       # incidence term weight (Nguyen et al. 2012: 0.1 mm vs 1.9 mm at 1 m)
     max_incidence=75.0, # degrees: beyond, a depth camera returns no data; clipped there
@@ -66,11 +68,18 @@ def smooth_field(values, edges, steps):
     return x
 
 
-def correlated_noise(rng, n, edges, steps, white):
-    """Unit-variance noise per vertex: a smoothed (correlated) part and a white part."""
+def correlated_noise(rng, n, edges, steps, white, broad=0.0, broad_steps=50):
+    """Unit-variance noise per vertex: a smoothed (correlated) part, a white part and, with
+    `broad` > 0, that share of the variance correlated over `broad_steps` steps (tens of rings: a
+    depth camera's calibration-like error, which puts more energy in the coarse bands than in the
+    fine ones)."""
     corr = smooth_field(rng.standard_normal(n), edges, steps)
     corr /= max(corr.std(), 1e-300)
-    return math.sqrt(1 - white) * corr + math.sqrt(white) * rng.standard_normal(n)
+    out = math.sqrt(1 - white - broad) * corr + math.sqrt(white) * rng.standard_normal(n)
+    if broad > 0:
+        wide = smooth_field(rng.standard_normal(n), edges, broad_steps)
+        out += math.sqrt(broad) * wide / max(wide.std(), 1e-300)
+    return out
 
 
 def cameras(rng, centre, diag, views, elevation, distance):
@@ -125,7 +134,8 @@ def scanner_noise(points, faces, level, seed, details=False, **params):
     sigma = level * mean_edge * (z / z_ref) ** 2 * incidence
     # one noise field per camera: a vertex takes its camera's (seams between views, as in a
     # multi-view scan)
-    fields = np.stack([correlated_noise(rng, n, edges, p["corr_steps"], p["white"])
+    fields = np.stack([correlated_noise(rng, n, edges, p["corr_steps"], p["white"], p["broad"],
+                                        p["broad_steps"])
                        for _ in range(p["views"])], axis=1)
     measured = z + sigma * fields[np.arange(n), view]
 

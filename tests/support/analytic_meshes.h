@@ -82,6 +82,35 @@ inline MeshArrays heightField(int n, double x0, double x1, double y0, double y1,
   return fromArrays(std::move(p), std::move(f));
 }
 
+// Noise along the clean normals whose values are white noise smoothed by `steps` graph-Laplacian
+// steps (x <- (x + 1-ring mean) / 2), renormalised to std `sigma`: correlated over about
+// sqrt(steps) rings, like a scanner's.
+inline MeshArrays withCorrelatedNoise(const MeshArrays &clean, double sigma, int steps, unsigned seed) {
+  const int n = int(clean.points.size());
+  const vcg_ext::Rings rings = vcg_ext::computeRings(n, clean.faces);
+  std::vector<Vec3> normals;
+  vcg_ext::computeVertexNormals(clean.points, clean.faces, rings, normals);
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> z(n), next(n);
+  for (double &x : z) x = g(rng);
+  for (int s = 0; s < steps; ++s) {
+    for (int v = 0; v < n; ++v) {
+      double sum = 0;
+      for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) sum += z[*w];
+      next[v] = 0.5 * z[v] + 0.5 * sum / std::max(1, rings.ring1Size(v));
+    }
+    z.swap(next);
+  }
+  double mean = 0, square = 0;
+  for (double x : z) mean += x / n;
+  for (double x : z) square += (x - mean) * (x - mean) / n;
+  MeshArrays noisy = clean;
+  for (int v = 0; v < n; ++v) noisy.points[v] += sigma * (z[v] - mean) / std::sqrt(square) * normals[v];
+  return noisy;
+}
+
+
 // Index of the grid vertex nearest to (x, y) in a heightField(n, ...) mesh.
 inline int nearestVertex(const MeshArrays &m, double x, double y) {
   int best = 0;

@@ -22,34 +22,6 @@ MeshArrays wavyField() {
   });
 }
 
-// Noise along the clean normals whose values are white noise smoothed by `steps` graph-Laplacian
-// steps (x <- (x + 1-ring mean) / 2), renormalised to std `sigma`: correlated over about
-// sqrt(steps) rings, like a scanner's.
-MeshArrays withCorrelatedNoise(const MeshArrays &clean, double sigma, int steps, unsigned seed) {
-  const int n = int(clean.points.size());
-  const Rings rings = computeRings(n, clean.faces);
-  std::vector<Vec3> normals;
-  computeVertexNormals(clean.points, clean.faces, rings, normals);
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::vector<double> z(n), next(n);
-  for (double &x : z) x = g(rng);
-  for (int s = 0; s < steps; ++s) {
-    for (int v = 0; v < n; ++v) {
-      double sum = 0;
-      for (const int *w = rings.ring1Begin(v); w != rings.ring1End(v); ++w) sum += z[*w];
-      next[v] = 0.5 * z[v] + 0.5 * sum / std::max(1, rings.ring1Size(v));
-    }
-    z.swap(next);
-  }
-  double mean = 0, square = 0;
-  for (double x : z) mean += x / n;
-  for (double x : z) square += (x - mean) * (x - mean) / n;
-  MeshArrays noisy = clean;
-  for (int v = 0; v < n; ++v) noisy.points[v] += sigma * (z[v] - mean) / std::sqrt(square) * normals[v];
-  return noisy;
-}
-
 } // namespace
 
 TEST(NoiseEstimate, SmoothAnalyticSurfacesReadClean) {
@@ -102,7 +74,7 @@ TEST(NoiseEstimate, RingCorrelatedNoise) {
   const MeshArrays sphere = test_meshes::icosphere(1.0, 5);
   const double edge = meanEdge(sphere);
   const double sigma = 0.3;
-  const NoiseEstimate e = estimate(withCorrelatedNoise(sphere, sigma * edge, 2, 11));
+  const NoiseEstimate e = estimate(test_meshes::withCorrelatedNoise(sphere, sigma * edge, 2, 11));
   RecordProperty("spectrum", std::to_string(e.spectrum[0]) + " " + std::to_string(e.spectrum[1]) +
                                  " " + std::to_string(e.spectrum[2]) + " " +
                                  std::to_string(e.spectrum[3]));

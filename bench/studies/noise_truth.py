@@ -1,0 +1,193 @@
+#!/usr/bin/env python3
+"""The noise estimate against the truth: what vcg_ext reads (tools/noise_probe: the finest-band
+level of analysis/noise_estimate.h and the amplitude of analysis/noise_amplitude.h) on noisy
+meshes whose noise is known, over
+
+- levels 0.05, 0.1, 0.2, 0.4, 0.6, 1.0 mean edge lengths along the clean mesh's normals;
+- white noise and noise correlated over 2, 4 and 10 steps of x <- (x + mean of the 1-ring) / 2
+  (bench/scanner_noise.py's smoothing), renormalised to the level;
+- without and with sparse impulses (2 % of the vertices moved a further 3 to 6 levels along
+  their normal, at least one mean edge length);
+- CAD meshes (the benchmark's clean Fandisk, Block, Twelve, SharpSphere) and organic ones (its
+  Bunny, the paper's cow, libcgal-demo's armadillo and lion head), the Fandisk and the cow also
+  midpoint-subdivided once (the same shape at four times the vertices).
+
+The truth: the root mean square of the added displacement along the clean normals, in the clean
+mesh's mean edge lengths, over all vertices; beside it the part above its own 10-step low-pass
+(the figure quoted for real depth scans). Writes bench/out/studies/NOISE_TRUTH.md: one row per
+case, and the share of cases whose reading is within 0.7-1.3 of the truth, per noise kind and
+level. Seeded, deterministic.
+
+    python3 bench/studies/noise_truth.py [--build build] [--quick]
+
+About 10 minutes on two cores (--quick: two meshes, a few minutes).
+"""
+import argparse
+import json
+import math
+import os
+import pathlib
+import subprocess
+import sys
+import tarfile
+
+import numpy as np
+
+sys.path[:0] = [str(pathlib.Path(__file__).resolve().parent),  # bench/studies and bench/
+                str(pathlib.Path(__file__).resolve().parents[1])]
+import meshio  # noqa: E402
+import noref  # noqa: E402
+from scanner_noise import smooth_field  # noqa: E402
+
+REPO = pathlib.Path(__file__).resolve().parents[2]
+SHARED = REPO.parent / "shared" / "data"
+CGAL_DATA = pathlib.Path("/usr/share/doc/libcgal-demo/data.tar.gz")
+OUT = REPO / "bench" / "out" / "studies"
+
+MESHES = [("Fandisk", "CAD", SHARED / "benchmark/Fandisk0.3/clean.ply"),
+          ("Block", "CAD", SHARED / "benchmark/Block0.4/clean.ply"),
+          ("Twelve", "CAD", SHARED / "benchmark/Twelve0.5Impulsive/clean.ply"),
+          ("SharpSphere", "CAD", SHARED / "benchmark/SharpSphere0.3/clean.ply"),
+          ("Bunny", "organic", SHARED / "benchmark/Bunny0.2/clean.ply"),
+          ("cow", "organic", SHARED / "paper/cow.ply"),
+          ("armadillo", "organic", "cgal:armadillo"),
+          ("lion-head", "organic", "cgal:lion-head")]
+SUBDIVIDED = ("Fandisk", "cow")
+LEVELS = (0.05, 0.1, 0.2, 0.4, 0.6, 1.0)
+STEPS = (0, 2, 4, 10)
+IMPULSES = (0.02, 3.0, 6.0)  # share, size range in levels (at least one mean edge length)
+SEED = 20261206
+
+
+def clean_mesh(source, work):
+    if str(source).startswith("cgal:"):
+        name = str(source)[5:]
+        out = work / f"{name}_clean.ply"
+        if not out.exists():
+            with tarfile.open(CGAL_DATA) as tar:
+                (work / f"{name}.off").write_bytes(
+                    tar.extractfile(tar.getmember(f"data/meshes/{name}.off")).read())
+            pts, faces = meshio.read_off(work / f"{name}.off")
+            meshio.write_ply(out, pts, faces)
+        source = out
+    points, faces, _ = meshio.read_mesh(source)
+    return points, faces
+
+
+def noise_field(rng, n, edges, steps, level, impulses):
+    """Unit-less displacement per vertex along the normal, in mean edge lengths."""
+    g = rng.standard_normal(n)
+    if steps:
+        g = smooth_field(g, edges, steps)
+    g *= level / max(g.std(), 1e-300)
+    if impulses:
+        share, lo, hi = IMPULSES
+        pick = np.flatnonzero(rng.random(n) < share)
+        size = np.maximum(rng.uniform(lo, hi, len(pick)) * level, 1.0)
+        g[pick] += rng.choice([-1.0, 1.0], len(pick)) * size
+    return g
+
+
+def cases(work, quick):
+    meshes = MESHES[:1] + MESHES[4:5] if quick else MESHES
+    out = []
+    for name, kind, source in meshes:
+        points, faces = clean_mesh(source, work)
+        versions = [(name, points, faces)]
+        if name in SUBDIVIDED and not quick:
+            versions.append((name + " x4",) + tuple(meshio.midpoint_subdivide(points, faces)))
+        for label, pts, f in versions:
+            edges = noref.unique_edges(f)
+            h = noref.mean_edge_length(pts, f)
+            normals = noref.vertex_normals(pts, f)
+            for steps in STEPS:
+                for level in (LEVELS[::2] if quick else LEVELS):
+                    for impulses in (False, True):
+                        rng = np.random.default_rng([SEED, steps, int(level * 1000), impulses])
+                        g = noise_field(rng, len(pts), edges, steps, level, impulses)
+                        path = work / f"{label.replace(' ', '_')}_s{steps}_l{level}_i{int(impulses)}.ply"
+                        meshio.write_ply(path, pts + (g * h)[:, None] * normals, f)
+                        above = g - smooth_field(g, edges, 10)
+                        out.append({"mesh": label, "kind": kind, "steps": steps, "level": level,
+                                    "impulses": impulses, "path": str(path),
+                                    "truth": float(np.sqrt(np.mean(g ** 2))),
+                                    "truth_above_10": float(np.sqrt(np.mean(above ** 2)))})
+    return out
+
+
+def probe(build, paths, jobs):
+    """tools/noise_probe's JSON per mesh, in chunks over `jobs` processes."""
+    chunks = [paths[i::jobs] for i in range(jobs)]
+    procs = [subprocess.Popen([str(build / "tools" / "noise_probe"), *c], stdout=subprocess.PIPE,
+                              text=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
+             for c in chunks if c]
+    out = {}
+    for p in procs:
+        for line in p.communicate()[0].splitlines():
+            r = json.loads(line)
+            out[r["mesh"]] = r
+    return out
+
+
+def within(x):
+    return 0.7 <= x <= 1.3
+
+
+def report(rows, cmd):
+    lines = [f"# The noise estimate against the truth\n\n`{cmd}`. *level*: the finest-band level "
+             "(noise_estimate.h); *amplitude*: noise_amplitude.h, with the correlation *s* it was "
+             "read with; *truth*: rms of the added noise along the normals (mean edge lengths); "
+             "*above 10*: its part above the 10-step low-pass.\n",
+             "## Share within 0.7-1.3 of the truth\n",
+             "| noise | cases | level | amplitude | amplitude vs above-10 |", "|---|---|---|---|---|"]
+
+    def group(label, pick):
+        g = [r for r in rows if pick(r)]
+        if not g:
+            return
+        share = lambda key, truth: sum(within(r[key] / r[truth]) for r in g) / len(g)
+        lines.append(f"| {label} | {len(g)} | {share('level_read', 'truth'):.2f} | "
+                     f"{share('amplitude', 'truth'):.2f} | {share('amplitude', 'truth_above_10'):.2f} |")
+    group("all", lambda r: True)
+    for kind in ("CAD", "organic"):
+        group(kind, lambda r, k=kind: r["kind"] == k)
+    for steps in STEPS:
+        group(f"correlation {steps} steps", lambda r, s=steps: r["steps"] == s)
+    for level in LEVELS:
+        group(f"level {level}", lambda r, l=level: r["level"] == l)
+    group("with impulses", lambda r: r["impulses"])
+    group("levels 0.2-1.0, no impulses", lambda r: r["level"] >= 0.2 and not r["impulses"])
+    lines += ["\n## Every case\n",
+              "| mesh | kind | s | level | impulses | truth | above 10 | level read | amplitude | s read |",
+              "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['mesh']} | {r['kind']} | {r['steps']} | {r['level']} | "
+                     f"{'yes' if r['impulses'] else ''} | {r['truth']:.3f} | {r['truth_above_10']:.3f} | "
+                     f"{r['level_read']:.3f} | {r['amplitude']:.3f} | {r['correlation_read']} |")
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--build", default=os.environ.get("SBS_BUILD_DIR", str(REPO / "build")))
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--out", default=str(OUT / "NOISE_TRUTH.md"))
+    args = ap.parse_args()
+    work = OUT / "noise_truth"
+    work.mkdir(parents=True, exist_ok=True)
+    rows = cases(work, args.quick)
+    read = probe(pathlib.Path(args.build), [r["path"] for r in rows], args.jobs)
+    for r in rows:
+        p = read[r["path"]]
+        r.update(level_read=p["level"], amplitude=p["amplitude"],
+                 correlation_read=p["correlation_steps"])
+    cmd = "python3 bench/studies/noise_truth.py" + (" --quick" if args.quick else "")
+    (work / "rows.json").write_text(json.dumps(rows, indent=1))
+    text = report(rows, cmd)
+    pathlib.Path(args.out).write_text(text)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,260 @@
+// The noise's amplitude along the normals, white or correlated over several rings, from the mesh
+// alone.
+//
+// Inputs: positions in the noise frame (noise_estimate.h's NoiseFrame: mean edge lengths), Rings,
+// the vertices that may not move and those the statistics count. Output: a NoiseAmplitude: the
+// noise's root mean square along the normals in mean edge lengths, the correlation it was read
+// with, and the band energies it came from.
+//
+// How: the mesh is split into the octave bands of Taubin's scale space (0-1, 1-2, 2-4, ..., 64-128
+// λ|μ pairs); each band's energy is the mean square of its displacement along the vertex normals.
+// Noise correlated over s rings (white noise smoothed s times by x <- (x + mean of the 1-ring) / 2,
+// the scanner model's correlation) has a known share of its energy in each band, the same on every
+// mesh of near-regular valence (measured once on a regular torus: noiseTemplates); the shape adds
+// energy that grows from band to band. The energies are fitted as σ² times a template plus a
+// geometric shape term and a constant floor (non-negative least squares, weighted by each band's
+// energy), for each s of `correlation_steps` and each growth of `shape_growth`; the best fit gives
+// σ and s. Why: the finest-band level of noise_estimate.h reads white noise well but a fifth of
+// noise correlated over a few rings, whose energy lies in the bands beyond 8 pairs
+// (docs/studies/noise-estimate.md). The shape term keeps a mesh's coarse shape from reading as
+// strongly correlated noise; what it cannot tell apart (noise correlated over ten rings or more
+// at levels below the shape's own energy there) it gives to the shape, so the amplitude errs low
+// there, not high.
+//
+// Scale, order, threads: every length is in mean edge lengths; band energies are sums over the
+// counted vertices in vertex order after per-vertex terms computed in parallel, so the result does
+// not depend on the thread count; Taubin's steps read each ring in its order (spatial_taubin.h).
+#pragma once
+
+#include "vcg_ext/analysis/curvature.h"
+#include "vcg_ext/core/position_hash.h"
+#include "vcg_ext/core/vertex_roles.h"
+#include "vcg_ext/smoothing/spatial_taubin.h"
+#include "vcg_ext/smoothing/taubin_chebyshev.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace vcg_ext {
+
+struct NoiseAmplitudeParams {
+  double lambda = 0.5, mu = -0.53;                    // Taubin's pair, as the noise estimate's
+  std::vector<int> band_pairs = {0, 1, 2, 4, 8, 16, 32, 64, 128};
+  std::vector<int> correlation_steps = {1, 2, 4, 6, 10};
+  std::vector<double> shape_growth = {2.5, 3.0}; // the shape term's growth per band
+  double chebyshev_tolerance = 1e-4;                  // the coarse bands as series (taubin_chebyshev.h)
+  int normal_pairs = 8; // the band displacements are read along the normals of this snapshot
+};
+
+struct NoiseAmplitude {
+  double amplitude = 0;          // rms along the normals, mean edge lengths
+  int correlation_steps = 0;     // the fitted s of the correlated part (0: white only)
+  double correlated_share = 0;   // the correlated part's share of the noise's energy
+  double shape_energy = 0;       // the shape term's energy in the coarsest band
+  double fit_error = 0;          // rms relative error of the fit over the bands
+  std::vector<double> band_energy; // per band, mean square along the normals (edge lengths²)
+};
+
+namespace detail {
+
+// Band b's displacement along the normals, squared and averaged over the counted vertices: the
+// terms in parallel, their sum in vertex order.
+inline double bandEnergy(const std::vector<Vec3> &finer, const std::vector<Vec3> &coarser,
+                         const std::vector<Vec3> &normals, const std::vector<std::uint8_t> &counted,
+                         const SpatialTaubin &taubin) {
+  const int n = int(counted.size());
+  std::vector<double> term(n, 0.0);
+#pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
+  for (int v = 0; v < n; ++v) {
+    if (!counted[v]) continue;
+    const int l = taubin.local(v);
+    const double d = (finer[l] - coarser[l]).dot(normals[v]);
+    term[v] = d * d;
+  }
+  double sum = 0;
+  long count = 0;
+  for (int v = 0; v < n; ++v)
+    if (counted[v]) sum += term[v], ++count;
+  return count > 0 ? sum / double(count) : 0.0;
+}
+
+// The next snapshot, `pairs` Taubin pairs smoother than `field`: as a Chebyshev series where that
+// pays (taubin_chebyshev.h), else step by step.
+inline void smoothBy(const SpatialTaubin &taubin, int pairs, const NoiseAmplitudeParams &p,
+                     std::vector<Vec3> &field, std::vector<Vec3> &scratch) {
+  const std::vector<double> series =
+      taubinChebyshevCoefficients(pairs, p.lambda, p.mu, p.chebyshev_tolerance);
+  if (chebyshevPays(series, pairs)) {
+    taubin.applyChebyshev({&field}, {&scratch}, series);
+    field.swap(scratch);
+  } else {
+    taubin.smooth({&field}, pairs, p.lambda, p.mu);
+  }
+}
+
+} // namespace detail
+
+// The band energies of `points` (in the noise frame, the taubin's local order) along `normals`
+// (global order), over the `counted` vertices: one per band of params.band_pairs.
+inline std::vector<double> bandEnergiesAlongNormals(std::vector<Vec3> field,
+                                                    const SpatialTaubin &taubin,
+                                                    const std::vector<Vec3> &normals,
+                                                    const std::vector<std::uint8_t> &counted,
+                                                    const NoiseAmplitudeParams &p) {
+  const int bands = int(p.band_pairs.size()) - 1;
+  std::vector<double> energy(std::max(bands, 0), 0.0);
+  std::vector<Vec3> previous, scratch;
+  for (int b = 0; b < bands; ++b) {
+    previous = field;
+    detail::smoothBy(taubin, p.band_pairs[b + 1] - p.band_pairs[b], p, field, scratch);
+    energy[b] = detail::bandEnergy(previous, field, normals, counted, taubin);
+  }
+  taubin.releaseBuffers();
+  return energy;
+}
+
+// The share of a unit-variance noise's energy in each Taubin band of NoiseAmplitudeParams'
+// default band_pairs (0-1, ..., 64-128 pairs), for noise smoothed s times by x <- (x + mean of the
+// 1-ring) / 2: measured on a regular 128 x 128 torus, the mean of six probes (standard errors
+// below 2 %); the same within 5-10 % on the benchmark's meshes, whatever their valences
+// (tests/unit/test_noise_amplitude.cpp measures them again on a torus; docs/studies/noise-estimate.md).
+// Also measured there: each template's edge decorrelation.
+struct NoiseTemplate {
+  int steps;
+  std::array<double, 8> energy;
+  // Half the mean square difference across an edge of the unit-variance noise (1 - the
+  // neighbours' correlation): how much the noise lengthens the mesh's edges (cleanEdgeUnits).
+  double edge_decorrelation;
+};
+inline const std::array<NoiseTemplate, 6> &noiseTemplates() {
+  static const std::array<NoiseTemplate, 6> table = {{
+      {0, {1.0779e-01, 3.6908e-02, 3.8521e-02, 2.2994e-02, 1.2889e-02, 8.0663e-03, 5.1789e-03,
+           3.3838e-03}, 1.0006},
+      {1, {4.6167e-02, 1.8520e-02, 2.4999e-02, 2.3393e-02, 1.9622e-02, 1.5659e-02, 1.1766e-02,
+           8.5755e-03}, 0.6686},
+      {2, {1.4815e-02, 7.2175e-03, 1.2708e-02, 1.7043e-02, 1.9168e-02, 1.8665e-02, 1.6131e-02,
+           1.3024e-02}, 0.4244},
+      {4, {1.8044e-03, 1.2375e-03, 3.1717e-03, 6.5713e-03, 1.0829e-02, 1.4305e-02, 1.5681e-02,
+           1.5262e-02}, 0.2267},
+      {6, {4.0307e-04, 3.2635e-04, 9.9542e-04, 2.5627e-03, 5.3259e-03, 8.7732e-03, 1.1676e-02,
+           1.3436e-02}, 0.1551},
+      {10, {5.0920e-05, 4.6220e-05, 1.6165e-04, 5.0923e-04, 1.3729e-03, 3.0334e-03, 5.4402e-03,
+            8.4109e-03}, 0.0957},
+  }};
+  return table;
+}
+
+namespace detail {
+
+// min |A c - e|² over c >= 0 for a few columns (at most 5), by trying every set of free columns
+// (at most 31 least-squares solves): exact, deterministic, and small.
+inline Eigen::VectorXd nonNegativeFit(const Eigen::MatrixXd &A, const Eigen::VectorXd &e,
+                                      double &residual) {
+  const int columns = int(A.cols());
+  Eigen::VectorXd best = Eigen::VectorXd::Zero(columns);
+  residual = e.squaredNorm();
+  for (int mask = 1; mask < (1 << columns); ++mask) {
+    std::vector<int> cols;
+    for (int j = 0; j < columns; ++j)
+      if (mask & (1 << j)) cols.push_back(j);
+    Eigen::MatrixXd sub(A.rows(), int(cols.size()));
+    for (int j = 0; j < int(cols.size()); ++j) sub.col(j) = A.col(cols[j]);
+    const Eigen::VectorXd x = sub.colPivHouseholderQr().solve(e);
+    if ((x.array() < 0).any() || !x.allFinite()) continue;
+    const double r = (sub * x - e).squaredNorm();
+    if (r < residual) {
+      residual = r;
+      best.setZero();
+      for (int j = 0; j < int(cols.size()); ++j) best[cols[j]] = x[j];
+    }
+  }
+  return best;
+}
+
+} // namespace detail
+
+// An amplitude read in the noisy mesh's mean edge lengths, in those of the mesh without the noise:
+// noise along the normals lengthens the edges, by 2 a² (1 - ρ) of their squared length for an
+// amplitude a and a correlation ρ between neighbours (white noise of one mean edge length reads
+// 0.58 of it in its own mesh's units). The levels of the benchmark's noise are in clean units.
+inline double cleanEdgeUnits(double read, double edge_decorrelation) {
+  const double denominator = 1.0 - 2.0 * read * read * edge_decorrelation;
+  // Beyond the pole (a' >= 0.7 white) the reading cannot come from noise along the normals alone.
+  return denominator > 0.25 ? read / std::sqrt(denominator) : 2.0 * read;
+}
+
+// The fit of the file comment on band energies of the default bands: energy_b ≈ σ_w² π_0,b +
+// σ_c² π_s,b + A g^(b - last) + F (white and correlated noise, shape, a floor), each band weighted
+// by 1 / energy_b (relative errors), for the best (s, g); the amplitude is the two noises' rms in
+// clean edge units. Real depth noise mixes a white part (quantisation, outliers) with its
+// correlated part: one template alone took the mixture for white noise of the finest band's level.
+inline NoiseAmplitude fitNoiseAmplitude(const std::vector<double> &energy,
+                                        const NoiseAmplitudeParams &p = {}) {
+  NoiseAmplitude out;
+  out.band_energy = energy;
+  const int bands = int(energy.size());
+  if (bands != 8) return out;
+  const NoiseTemplate &white = noiseTemplates()[0];
+  double best = INFINITY;
+  for (const NoiseTemplate &t : noiseTemplates()) {
+    if (std::find(p.correlation_steps.begin(), p.correlation_steps.end(), t.steps) ==
+        p.correlation_steps.end())
+      continue;
+    for (double g : p.shape_growth) {
+      Eigen::MatrixXd A(bands, 4);
+      Eigen::VectorXd e(bands);
+      for (int b = 0; b < bands; ++b) {
+        const double w = energy[b] > 0 ? 1.0 / energy[b] : 0.0;
+        A(b, 0) = w * white.energy[b];
+        A(b, 1) = t.steps > 0 ? w * t.energy[b] : 0.0;
+        A(b, 2) = w * std::pow(g, b - bands + 1);
+        A(b, 3) = w;
+        e[b] = w * energy[b];
+      }
+      double residual = 0;
+      const Eigen::VectorXd c = detail::nonNegativeFit(A, e, residual);
+      if (residual < best) {
+        best = residual;
+        const double total = c[0] + c[1];
+        const double decorrelation =
+            total > 0 ? (c[0] * white.edge_decorrelation + c[1] * t.edge_decorrelation) / total : 1;
+        out.amplitude = cleanEdgeUnits(std::sqrt(total), decorrelation);
+        out.correlation_steps = c[1] > 0 ? t.steps : 0;
+        out.correlated_share = total > 0 ? c[1] / total : 0.0;
+        out.shape_energy = c[2];
+        out.fit_error = std::sqrt(residual / bands);
+      }
+    }
+  }
+  return out;
+}
+
+// The amplitude of `points` (the noise frame: mean edge lengths) with its topology: band energies
+// along the normals of the `normal_pairs` snapshot over the movable interior vertices (and, when
+// given, only those `counted` marks), then fitNoiseAmplitude. Empty input: amplitude 0.
+inline NoiseAmplitude measureNoiseAmplitude(const std::vector<Vec3> &points,
+                                            const std::vector<Face> &faces, const Rings &rings,
+                                            const detail::VertexRoles &roles,
+                                            const std::vector<std::uint8_t> *counted = nullptr,
+                                            const NoiseAmplitudeParams &p = {}) {
+  const int n = int(points.size());
+  if (n == 0 || faces.empty()) return {};
+  const SpatialTaubin taubin(points, rings, roles.frozen, roles.boundary_neighbours,
+                             /*given_order=*/true);
+  std::vector<Vec3> snapshot = points, scratch;
+  detail::smoothBy(taubin, p.normal_pairs, p, snapshot, scratch);
+  std::vector<Vec3> normals;
+  computeVertexNormals(snapshot, faces, rings, normals);
+  std::vector<std::uint8_t> use(n, 0);
+  for (int v = 0; v < n; ++v)
+    use[v] = !roles.frozen[v] && !rings.boundary[v] && rings.ring1Size(v) > 0 &&
+             (!counted || (*counted)[v]);
+  return fitNoiseAmplitude(bandEnergiesAlongNormals(points, taubin, normals, use, p), p);
+}
+
+} // namespace vcg_ext
