@@ -190,6 +190,60 @@ CASE_VARIANTS = [("2views_0.2", 0.2, {"views": 2}), ("4views_0.4", 0.4, {"views"
 CASE_SEED = 20240516
 
 
+# The heavy set: the levels of a raw depth frame (0.6 and 1 mean edge lengths) on the objects people
+# scan with depth cameras (bench/shapes.py's analytic shapes, at 10k vertices) and on two of the
+# meshes above, with the model's four-view set-up and a "red" one whose coarse bands carry more
+# than its fine ones: more of the variance correlated over 12 steps and a broad share over 200
+# (tens of rings), fine disparity steps, fewer outliers (docs/studies/scanner-noise.md).
+RED = dict(views=2, quant=0.25, white=0.02, corr_steps=12, broad=0.6, broad_steps=200,
+           outliers=0.0005)
+HEAVY_SHAPES = ["box", "prism3", "prism6", "cylinder", "cone", "pyramid", "stacked_blocks",
+                "bracket"]
+HEAVY_MESHES = [("Fandisk", "bench", "Fandisk0.3"), ("Bunny", "bench", "Bunny0.2"),
+                ("armadillo", "cgal", "armadillo")]
+HEAVY_VARIANTS = [("4views_0.6", 0.6, {"views": 4}), ("4views_1.0", 1.0, {"views": 4}),
+                  ("red_0.6", 0.6, RED), ("red_1.0", 1.0, RED)]
+HEAVY_SEED = 20261206
+SHAPE_VERTICES = 10000
+
+
+def shape_mesh(name, dest):
+    """bench/shapes.py's `name` at SHAPE_VERTICES vertices, made once with the checkout's .venv
+    Python (PyMeshLab) and cached in dest."""
+    out = pathlib.Path(dest) / f"{name}_{SHAPE_VERTICES}.ply"
+    if not out.exists():
+        import subprocess
+        subprocess.run([str(REPO / ".venv" / "bin" / "python"), str(REPO / "bench" / "shapes.py"),
+                        str(dest), "--vertices", str(SHAPE_VERTICES), "--shapes", name],
+                       check=True, capture_output=True)
+    return out
+
+
+def make_heavy_cases(dest, shapes=None, meshes=None):
+    """The heavy set's cases (noisy.ply beside the clean mesh), made once."""
+    dest = pathlib.Path(dest)
+    dest.mkdir(parents=True, exist_ok=True)
+    sources = [(n, shape_mesh(n, dest), f"bench/shapes.py {n}") for n in (shapes or HEAVY_SHAPES)]
+    for label, kind, name in (HEAVY_MESHES if meshes is None else meshes):
+        clean, note = clean_mesh(kind, name, dest)
+        sources.append((label, clean, note))
+    cases = []
+    for label, clean, note in sources:
+        points = faces = None
+        for suffix, level, overrides in HEAVY_VARIANTS:
+            case = f"{label} {suffix}"
+            noisy = dest / f"{label}_{suffix}_noisy.ply"
+            if not noisy.exists():
+                if points is None:
+                    points, faces, _ = meshio.read_mesh(clean)
+                seed = (HEAVY_SEED + zlib.crc32(case.encode())) % 2**32
+                x, _ = scanner_noise(points, faces, level, seed, **overrides)
+                meshio.write_ply(noisy, x, faces)
+            cases.append({"name": case, "mesh": label, "variant": suffix, "clean": clean,
+                          "noisy": noisy, "note": note})
+    return cases
+
+
 def clean_mesh(kind, name, dest):
     """(path of the clean mesh as a PLY, display note)."""
     if kind == "bench":

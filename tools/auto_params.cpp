@@ -80,6 +80,9 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   integer("o.fold_rounds", o.folds.max_rounds);
   real("o.fold_min_tail", o.fold_min_tail);
   real("o.fold_min_level", o.fold_min_level);
+  real("f.heavy_from", f.heavy.from);
+  real("f.heavy_power", f.heavy.power);
+  real("f.heavy_max", f.heavy.max_factor);
   r["tail_power"] = [&p](double v) { p.feature.tails.power = p.organic.tails.power = v; };
   r["tail_max"] = [&p](double v) { p.feature.tails.max_factor = p.organic.tails.max_factor = v; };
   r["tail_from"] = [&p](double v) { p.feature.tails.level_from = p.organic.tails.level_from = v; };

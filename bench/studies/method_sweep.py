@@ -8,7 +8,8 @@ sets the scanner-noise work is judged on, fast and in-process, for choosing and 
                                   [--peers bench/out/scanner/raw.json] [--base TAG] [--tag TAG]
                                   [name=value ...]
 
-- scanner: the twelve cases of bench/scanner_noise.py; light: add_noise 0.05 / 0.1 in random
+- scanner: the twelve cases of bench/scanner_noise.py; heavy: its heavy set (make_heavy_cases:
+  analytic shapes and three meshes at 0.6 and 1 mean edge lengths, four views and a red spectrum); light: add_noise 0.05 / 0.1 in random
   directions on Bunny, the paper's cow, Fandisk, camel (as bench/scanner_bench.py); public: the
   benchmark's five noisy cases; real: the three real scans (mean displacement in mean edge lengths
   and median dihedral spread, bench/noref.py); clean: clean meshes (θ against themselves);
@@ -61,6 +62,9 @@ def cases(sets, build):
     if "scanner" in sets:
         for c in scanner_noise.make_cases(made / "scanner"):
             out.append(dict(name=c["name"], noisy=c["noisy"], clean=c["clean"], group="scanner"))
+    if "heavy" in sets:
+        for c in scanner_noise.make_heavy_cases(made / "heavy"):
+            out.append(dict(name=c["name"], noisy=c["noisy"], clean=c["clean"], group="heavy"))
     if "light" in sets:
         for label, kind, name in LIGHT:
             clean, _ = scanner_noise.clean_mesh(kind, name, made)

@@ -579,3 +579,22 @@ TEST(FeatureSmoothStages, OnePassMovesTheVerticesUnlessDeclinedOrCancelled) {
   const MeshArrays clean = test_meshes::box(1.0, 0.8, 0.6, 8); // (noisySmallBox's)
   EXPECT_GT(deviation(noisy.points, clean).theta_deg, 2 * deviation(current, clean).theta_deg);
 }
+
+// Heavy noise (its amplitude past HeavyNoiseParams::from) multiplies the passes and the normal
+// filter iterations the first pass's check waits for; at the public benchmark's levels nothing
+// changes.
+TEST(FeatureSmoothStages, HeavyNoiseTakesMorePassesAndALaterCheck) {
+  const MeshArrays noisy = noisySmallBox();
+  detail::DriverSetup setup = detail::driverSetup(noisy, false);
+  FeatureSmoothParams params;
+  setup.noise.amplitude = 0.3;
+  const FeaturePassCounts plain = detail::featurePassCounts(noisy, params, setup);
+  EXPECT_EQ(plain.heavy_factor, 1.0);
+  EXPECT_EQ(plain.checkIterations(params), params.check_iterations);
+  setup.noise.amplitude = 0.7; // factor (0.7 / 0.35)^3 = 8, capped at 4
+  const FeaturePassCounts heavy = detail::featurePassCounts(noisy, params, setup);
+  EXPECT_EQ(heavy.heavy_factor, 4.0);
+  EXPECT_NEAR(heavy.amount, 4.0 * plain.amount, 1e-12);
+  EXPECT_GT(heavy.normal_iterations, 3 * plain.normal_iterations);
+  EXPECT_EQ(heavy.checkIterations(params), 4 * params.check_iterations);
+}

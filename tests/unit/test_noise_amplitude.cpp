@@ -130,7 +130,7 @@ TEST(NoiseAmplitude, ACleanSphereIsShapeAndANoisyOneReadsItsNoise) {
 
 TEST(NoiseAmplitude, SameResultInAnyVertexOrderAndForAnyThreadCount) {
   const MeshArrays noisy =
-      test_meshes::withCorrelatedNoise(test_meshes::icosphere(1.0, 4), 0.01, 2, 9);
+      test_meshes::withCorrelatedNoise(test_meshes::icosphere(1.0, 5), 0.005, 2, 9);
   const SpatialOrder a = spatialOrder(noisy);
   const SpatialOrder b = spatialOrder(
       test_meshes::permuted(noisy, test_meshes::shuffledPermutation(int(noisy.points.size()), 4)));
@@ -140,6 +140,22 @@ TEST(NoiseAmplitude, SameResultInAnyVertexOrderAndForAnyThreadCount) {
   omp_set_num_threads(2);
   const NoiseAmplitude two = amplitudeOf(b.mesh);
   omp_set_num_threads(threads);
+  EXPECT_GT(one.amplitude, 0.1);
   EXPECT_EQ(one.amplitude, two.amplitude);
   EXPECT_EQ(one.band_energy, two.band_energy);
+}
+
+TEST(NoiseAmplitude, MeshesTooSmallForTheCoarseBandsAreNotRead) {
+  const MeshArrays small = test_meshes::icosphere(1.0, 4); // 2562 vertices
+  const double edge = test_meshes::meanEdge(small);
+  const MeshArrays noisy = test_meshes::withCorrelatedNoise(small, 0.4 * edge, 2, 3);
+  EXPECT_EQ(amplitudeOf(noisy).amplitude, 0.0);
+  NoiseAmplitudeParams all;
+  all.min_vertices = 0; // read anyway: the coarse bands see the whole sphere
+  const Rings rings = computeRings(int(noisy.points.size()), noisy.faces);
+  const double noisy_edge = edgeStatistics(noisy.points, rings).mean_edge_length;
+  const NoiseAmplitude forced = measureNoiseAmplitude(
+      detail::inNoiseFrame(noisy.points, rings, detail::noiseFrame(noisy.points, rings, noisy_edge)),
+      noisy.faces, rings, detail::vertexRoles(noisy, rings, noisy_edge), nullptr, all);
+  EXPECT_GT(forced.amplitude, 0.0);
 }

@@ -237,7 +237,8 @@ TEST(NoiseEstimateStages, SpectrumIsTheMedianAlongTheNormalsOverTheProbesMedian)
   std::vector<std::uint8_t> interior(flat.points.size());
   for (size_t v = 0; v < interior.size(); ++v) interior[v] = !rings.boundary[v];
   NoiseEstimate e;
-  detail::spectrumAlongNormals(snapshot, flat.faces, rings, interior, {0.5, 0.5}, e);
+  std::vector<Vec3> normals;
+  detail::spectrumAlongNormals(snapshot, flat.faces, rings, interior, {0.5, 0.5}, e, normals);
   ASSERT_EQ(e.spectrum.size(), 2u);
   EXPECT_EQ(e.counted_vertices, 100); // the 10 x 10 interior vertices
   EXPECT_NEAR(e.spectrum[0], 0.3 / 0.5, 1e-12); // median of 50 × 0.1 and 50 × 0.3: the 51st
@@ -267,4 +268,20 @@ TEST(NoiseEstimateStages, ProbeFollowsThePositionInTheFrameNotTheIndex) {
   double sum2 = 0;
   for (const Vec3f &p : probe) sum2 += double(p.squaredNorm()) / (3.0 * probe.size());
   EXPECT_NEAR(sum2, 1.0, 0.05); // unit std per component
+}
+
+TEST(NoiseEstimate, HeavyNoiseFactorIsOneUpToItsAmplitudeThenAPowerOfItCapped) {
+  NoiseEstimate e;
+  EXPECT_EQ(heavyNoiseFactor(e), 1.0); // not read
+  e.amplitude = 0.3;
+  EXPECT_EQ(heavyNoiseFactor(e), 1.0); // the public benchmark's levels
+  e.amplitude = 0.49;
+  EXPECT_NEAR(heavyNoiseFactor(e), std::pow(0.49 / 0.35, 3.0), 1e-12);
+  e.amplitude = 1.0;
+  EXPECT_EQ(heavyNoiseFactor(e), 4.0); // capped
+  HeavyNoiseParams off;
+  off.power = 0;
+  EXPECT_EQ(heavyNoiseFactor(e, off), 1.0);
+  e.amplitude = NAN;
+  EXPECT_EQ(heavyNoiseFactor(e), 1.0);
 }

@@ -11,6 +11,14 @@ using namespace vcg_ext;
 
 namespace {
 
+// The estimate without its amplitude, whose coarse bands would need windows wider than a unit
+// test's meshes (AmplitudeOnWindowsIsTheWholeMeshsOverTheCores has a larger one).
+NoiseEstimateParams spectrumOnly() {
+  NoiseEstimateParams p;
+  p.amplitude = false;
+  return p;
+}
+
 // Small windows, so that meshes of a unit test's size take several.
 NoiseWindowParams smallWindows() {
   NoiseWindowParams p;
@@ -27,17 +35,18 @@ struct Measured {
 
 // The estimate on windows, the whole mesh's estimate with its medians over the same cores, and the
 // whole mesh's own.
-Measured measure(const MeshArrays &mesh, const NoiseWindowParams &params) {
+Measured measure(const MeshArrays &mesh, const NoiseWindowParams &params,
+                 const NoiseEstimateParams &estimate = spectrumOnly()) {
   Measured out;
   const int n = int(mesh.points.size());
   const Rings rings = computeRings(n, mesh.faces);
   const double edge = edgeStatistics(mesh.points, rings).mean_edge_length;
   const detail::VertexRoles roles = detail::vertexRoles(mesh, rings, edge);
-  out.used = estimateNoiseOnWindows(mesh, rings, roles.frozen, edge, out.windows, params);
+  out.used =
+      estimateNoiseOnWindows(mesh, rings, roles.frozen, edge, out.windows, params, estimate);
   const FaceRings face_rings = computeFaceRings(mesh.faces, rings);
-  out.whole = estimateNoise(mesh.points, mesh.faces, rings, face_rings, roles);
+  out.whole = estimateNoise(mesh.points, mesh.faces, rings, face_rings, roles, estimate);
   // The cores as the windows take them: within core_rings of one seed per run of the order.
-  const NoiseEstimateParams estimate;
   const int reach = params.core_rings + noiseWindowMargin(estimate, params);
   const int windows = int(params.face_share * double(mesh.faces.size()) / (6.0 * reach * reach));
   const std::vector<int> distance =
@@ -123,7 +132,8 @@ TEST(NoiseWindows, SmallMeshesAreLeftToTheWholeMeshEstimate) {
   const detail::VertexRoles roles = detail::vertexRoles(sphere, rings, edge);
   NoiseEstimate untouched;
   untouched.level = -1;
-  EXPECT_FALSE(estimateNoiseOnWindows(sphere, rings, roles.frozen, edge, untouched));
+  EXPECT_FALSE(
+      estimateNoiseOnWindows(sphere, rings, roles.frozen, edge, untouched, {}, spectrumOnly()));
   EXPECT_EQ(untouched.level, -1);
   // Windows that would take most of the mesh are refused too.
   NoiseWindowParams wide = smallWindows();
@@ -134,7 +144,7 @@ TEST(NoiseWindows, SmallMeshesAreLeftToTheWholeMeshEstimate) {
   const double big_edge = edgeStatistics(big.points, big_rings).mean_edge_length;
   EXPECT_FALSE(estimateNoiseOnWindows(big, big_rings,
                                       detail::vertexRoles(big, big_rings, big_edge).frozen,
-                                      big_edge, untouched, wide));
+                                      big_edge, untouched, wide, spectrumOnly()));
   EXPECT_EQ(untouched.level, -1);
 }
 
@@ -148,12 +158,30 @@ TEST(NoiseWindows, AtMostMaxWindowsTakeTheirCoresAsTheSample) {
   const detail::VertexRoles roles = detail::vertexRoles(sphere, rings, edge);
   NoiseWindowParams params = smallWindows();
   NoiseEstimate all, capped;
-  ASSERT_TRUE(estimateNoiseOnWindows(sphere, rings, roles.frozen, edge, all, params));
+  ASSERT_TRUE(
+      estimateNoiseOnWindows(sphere, rings, roles.frozen, edge, all, params, spectrumOnly()));
   params.max_windows = 4;
-  ASSERT_TRUE(estimateNoiseOnWindows(sphere, rings, roles.frozen, edge, capped, params));
+  ASSERT_TRUE(
+      estimateNoiseOnWindows(sphere, rings, roles.frozen, edge, capped, params, spectrumOnly()));
   // 6 windows, then 4 (their cores do not overlap on this sphere: the share falls by a third).
   EXPECT_NEAR(capped.sampled_share / all.sampled_share, 4.0 / 6.0, 0.05);
   EXPECT_NEAR(capped.level / all.level, 1.0, 0.05);
   params.max_windows = 3; // under min_windows: the whole mesh's estimate instead
-  EXPECT_FALSE(estimateNoiseOnWindows(sphere, rings, roles.frozen, edge, capped, params));
+  EXPECT_FALSE(
+      estimateNoiseOnWindows(sphere, rings, roles.frozen, edge, capped, params, spectrumOnly()));
+}
+
+// The amplitude's coarse bands widen the windows' margins (noiseWindowMargin): its cores then read
+// the whole mesh's band energies, up to float rounding (the Chebyshev series sums relative to the
+// field's bounding-box centre, a window's own), and the fit the same amplitude.
+TEST(NoiseWindows, AmplitudeOnWindowsIsTheWholeMeshsOverTheCores) {
+  MeshArrays sphere = test_meshes::icosphere(1.0, 7); // 163842 vertices, edge about 0.008
+  test_meshes::addNoise(sphere, 0.003, 8);
+  const Measured m = measure(sphere, smallWindows(), NoiseEstimateParams());
+  ASSERT_TRUE(m.used);
+  expectSameBits(m.windows, m.masked);
+  EXPECT_GT(m.windows.amplitude, 0.2);
+  EXPECT_NEAR(m.windows.amplitude, m.masked.amplitude, 1e-4 * m.masked.amplitude);
+  EXPECT_EQ(m.windows.correlation_steps, m.masked.correlation_steps);
+  EXPECT_NEAR(m.windows.amplitude, m.whole.amplitude, 0.05 * m.whole.amplitude);
 }

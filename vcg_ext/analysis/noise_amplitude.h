@@ -47,8 +47,13 @@ struct NoiseAmplitudeParams {
   std::vector<int> band_pairs = {0, 1, 2, 4, 8, 16, 32, 64, 128};
   std::vector<int> correlation_steps = {1, 2, 4, 6, 10};
   std::vector<double> shape_growth = {2.5, 3.0}; // the shape term's growth per band
-  double chebyshev_tolerance = 1e-4;                  // the coarse bands as series (taubin_chebyshev.h)
+  double chebyshev_tolerance = 1e-3;                  // the coarse bands as series (taubin_chebyshev.h)
   int normal_pairs = 8; // the band displacements are read along the normals of this snapshot
+  // Meshes under this many vertices are not read: their coarse bands (a kernel of about eleven
+  // rings at 128 pairs) reach across the whole shape, whose energy there then reads as noise
+  // correlated over several rings (coarse held-out meshes of 1-3k vertices read 0.7-0.9 under
+  // noise of 0.3; docs/studies/noise-estimate.md). 64 vertices per pair of the coarsest band.
+  int min_vertices = 8192;
 };
 
 struct NoiseAmplitude {
@@ -63,18 +68,19 @@ struct NoiseAmplitude {
 namespace detail {
 
 // Band b's displacement along the normals, squared and averaged over the counted vertices: the
-// terms in parallel, their sum in vertex order.
-inline double bandEnergy(const std::vector<Vec3> &finer, const std::vector<Vec3> &coarser,
-                         const std::vector<Vec3> &normals, const std::vector<std::uint8_t> &counted,
-                         const SpatialTaubin &taubin) {
+// terms in parallel, their sum in vertex order. Fields in the taubin's local order.
+template <class V>
+double bandEnergy(const std::vector<V> &finer, const std::vector<V> &coarser,
+                  const std::vector<Vec3> &normals, const std::vector<std::uint8_t> &counted,
+                  const SpatialTaubin &taubin) {
   const int n = int(counted.size());
   std::vector<double> term(n, 0.0);
 #pragma omp parallel for schedule(static) if (n >= min_parallel_vertices)
   for (int v = 0; v < n; ++v) {
     if (!counted[v]) continue;
     const int l = taubin.local(v);
-    const double d = (finer[l] - coarser[l]).dot(normals[v]);
-    term[v] = d * d;
+    const double d = (finer[l] - coarser[l]).template cast<double>().dot(normals[v]);
+    term[v] = std::isfinite(d) ? d * d : 0.0;
   }
   double sum = 0;
   long count = 0;
@@ -116,6 +122,49 @@ inline std::vector<double> bandEnergiesAlongNormals(std::vector<Vec3> field,
   }
   taubin.releaseBuffers();
   return energy;
+}
+
+// The energies of the bands from band_pairs[first] on, continuing from `snapshot` (the mesh
+// smoothed by band_pairs[first] pairs, local order), in single precision: a band is a small
+// difference of smooth fields, far above float rounding, and the coarse bands' series are most of
+// the amplitude's time (half their memory traffic). The noise estimate calls it after its own
+// bands (noise_estimate.h), whose snapshots give the finer ones.
+inline std::vector<double> coarseBandEnergies(const std::vector<Vec3> &snapshot, int first,
+                                              const SpatialTaubin &taubin,
+                                              const std::vector<Vec3> &normals,
+                                              const std::vector<std::uint8_t> &counted,
+                                              const NoiseAmplitudeParams &p) {
+  std::vector<double> energy;
+  std::vector<Vec3f> field(snapshot.size()), previous, scratch;
+  for (size_t l = 0; l < snapshot.size(); ++l) field[l] = snapshot[l].cast<float>();
+  for (int b = first; b + 1 < int(p.band_pairs.size()); ++b) {
+    const int pairs = p.band_pairs[b + 1] - p.band_pairs[b];
+    previous = field;
+    const std::vector<double> series =
+        taubinChebyshevCoefficients(pairs, p.lambda, p.mu, p.chebyshev_tolerance);
+    if (chebyshevPays(series, pairs)) {
+      taubin.applyChebyshev({}, {}, {&previous}, {&scratch}, series);
+      field.swap(scratch);
+    } else {
+      taubin.smooth({}, {&field}, pairs, p.lambda, p.mu);
+    }
+    energy.push_back(detail::bandEnergy(previous, field, normals, counted, taubin));
+  }
+  taubin.releaseBuffers();
+  return energy;
+}
+
+// The rings the coarse bands from band_pairs[first] on read beyond a vertex (their series'
+// degrees, or two per pair where the steps run one by one): a window's margin (noise_windows.h).
+inline int coarseBandReach(int first, const NoiseAmplitudeParams &p) {
+  int reach = 0;
+  for (int b = first; b + 1 < int(p.band_pairs.size()); ++b) {
+    const int pairs = p.band_pairs[b + 1] - p.band_pairs[b];
+    const std::vector<double> series =
+        taubinChebyshevCoefficients(pairs, p.lambda, p.mu, p.chebyshev_tolerance);
+    reach += chebyshevPays(series, pairs) ? int(series.size()) - 1 : 2 * pairs;
+  }
+  return reach;
 }
 
 // The share of a unit-variance noise's energy in each Taubin band of NoiseAmplitudeParams'
@@ -243,7 +292,7 @@ inline NoiseAmplitude measureNoiseAmplitude(const std::vector<Vec3> &points,
                                             const std::vector<std::uint8_t> *counted = nullptr,
                                             const NoiseAmplitudeParams &p = {}) {
   const int n = int(points.size());
-  if (n == 0 || faces.empty()) return {};
+  if (n == 0 || faces.empty() || n < p.min_vertices) return {};
   const SpatialTaubin taubin(points, rings, roles.frozen, roles.boundary_neighbours,
                              /*given_order=*/true);
   std::vector<Vec3> snapshot = points, scratch;

@@ -30,6 +30,7 @@
 
 #include "vcg_ext/analysis/curvature.h"
 #include "vcg_ext/analysis/dihedral_spread.h"
+#include "vcg_ext/analysis/noise_amplitude.h"
 #include "vcg_ext/core/position_hash.h"
 #include "vcg_ext/core/vertex_roles.h"
 #include "vcg_ext/smoothing/spatial_taubin.h"
@@ -53,6 +54,10 @@ struct NoiseEstimateParams {
   // Band edges in Taubin pairs of the white-equivalent spectrum. They start 0, 1: the first band
   // is the decision's pair, run once for both (other edges give the decision without a spectrum).
   std::vector<int> band_pairs = {0, 1, 2, 4, 8};
+  // The amplitude (noise_amplitude.h) of a mesh that reads noisy: its finer bands from this
+  // estimate's snapshots (band_pairs must be its first bands), the coarser ones after them.
+  bool amplitude = true;
+  NoiseAmplitudeParams amplitude_bands;
 };
 
 struct NoiseEstimate {
@@ -73,6 +78,11 @@ struct NoiseEstimate {
   // The share of the mesh's faces the spread's medians counted: 1, or the windows' cores on a
   // large mesh (noise_windows.h).
   double sampled_share = 1;
+  // The noise's amplitude along the normals in the bands up to 128 pairs (noise_amplitude.h),
+  // white and correlated, in the clean mesh's edge lengths; the drivers fill it in on noisy meshes.
+  double amplitude = 0;
+  int correlation_steps = 0;   // the correlated part's steps (0: white only)
+  double correlated_share = 0; // the correlated part's share of the amplitude's energy
 };
 
 namespace detail {
@@ -176,9 +186,9 @@ inline void decideNoisy(double smoothed_spread_deg, const NoiseEstimateParams &p
 inline void spectrumAlongNormals(std::vector<std::vector<Vec3>> &snapshot,
                                  const std::vector<Face> &faces, const Rings &rings,
                                  const std::vector<std::uint8_t> &interior,
-                                 const std::vector<double> &probe_median, NoiseEstimate &out) {
+                                 const std::vector<double> &probe_median, NoiseEstimate &out,
+                                 std::vector<Vec3> &normals, std::vector<double> *energies = nullptr) {
   const int n = rings.vertex_count, bands = int(snapshot.size()) - 1;
-  std::vector<Vec3> normals;
   computeVertexNormals(snapshot[bands], faces, rings, normals);
   std::vector<std::uint8_t> counted(n);
   for (int v = 0; v < n; ++v) counted[v] = interior[v] && normals[v].squaredNorm() != 0;
@@ -194,6 +204,11 @@ inline void spectrumAlongNormals(std::vector<std::vector<Vec3>> &snapshot,
       if (std::isfinite(d)) along[v] = std::abs(d);
     }
     eraseNaN(along);
+    if (energies) { // the amplitude's mean square along the normals (noise_amplitude.h)
+      double sum = 0;
+      for (double a : along) sum += a * a;
+      energies->push_back(along.empty() ? 0.0 : sum / double(along.size()));
+    }
     double squares = 0; // in vertex order, before the median reorders the values
     if (b == 0)
       for (double a : along) squares += a * a;
@@ -206,6 +221,24 @@ inline void spectrumAlongNormals(std::vector<std::vector<Vec3>> &snapshot,
   }
   out.level = out.spectrum[0];
   out.correlated_level = *std::max_element(out.spectrum.begin(), out.spectrum.end());
+}
+
+// The amplitude (noise_amplitude.h) from the finer bands' energies and the coarser ones after
+// `last` (the snapshot `bands` pairs in), over the same vertices and normals as the spectrum.
+inline void readAmplitude(const std::vector<Vec3> &last, int bands, const SpatialTaubin &taubin,
+                          const std::vector<Vec3> &normals, const std::vector<std::uint8_t> &interior,
+                          const NoiseEstimateParams &params, std::vector<double> energies,
+                          NoiseEstimate &out) {
+  std::vector<std::uint8_t> counted(interior.size());
+  for (size_t v = 0; v < counted.size(); ++v)
+    counted[v] = interior[v] && normals[v].squaredNorm() != 0;
+  const std::vector<double> coarse =
+      coarseBandEnergies(last, bands, taubin, normals, counted, params.amplitude_bands);
+  energies.insert(energies.end(), coarse.begin(), coarse.end());
+  const NoiseAmplitude a = fitNoiseAmplitude(energies, params.amplitude_bands);
+  out.amplitude = a.amplitude;
+  out.correlation_steps = a.correlation_steps;
+  out.correlated_share = a.correlated_share;
 }
 
 // The estimate of the file comment in `frame`, its medians over the vertices and faces that
@@ -257,7 +290,17 @@ inline NoiseEstimate measureNoise(const std::vector<Vec3> &points, const std::ve
   if (!spectrum) return out;
   std::vector<Vec3f>().swap(probe);
   std::vector<Vec3f>().swap(probe_before);
-  spectrumAlongNormals(snapshot, faces, rings, interior, probe_median, out);
+  std::vector<Vec3> normals;
+  std::vector<double> energies;
+  const bool amplitude = params.amplitude && out.noisy &&
+                         rings.vertex_count >= params.amplitude_bands.min_vertices &&
+                         params.amplitude_bands.band_pairs.size() > params.band_pairs.size() &&
+                         std::equal(params.band_pairs.begin(), params.band_pairs.end(),
+                                    params.amplitude_bands.band_pairs.begin());
+  spectrumAlongNormals(snapshot, faces, rings, interior, probe_median, out, normals,
+                       amplitude ? &energies : nullptr);
+  if (amplitude) readAmplitude(snapshot[bands], bands, taubin, normals, interior, params, energies,
+                               out);
   return out;
 }
 
@@ -323,6 +366,25 @@ inline double heavyTailFactor(const NoiseEstimate &noise, const HeavyTailParams 
                           : double(noise.level >= params.level_from);
   const double full = std::min(std::pow(noise.tail, params.power), params.max_factor);
   return 1.0 + ramp * (full - 1.0);
+}
+
+// How much more smoothing heavy noise asks for than the measured need of 1 gives
+// (heavyNoiseFactor).
+struct HeavyNoiseParams {
+  double from = 0.35;    // amplitude (mean edge lengths) up to which the need of 1 suffices
+  double power = 3.0;    // beyond it the factor is (amplitude / from)^power
+  double max_factor = 4.0;
+};
+
+// The factor on the amount of smoothing for noise heavier than the public benchmark's: the need
+// (measuredRoughness) saturates at 1 from a tenth of an edge length, while noise of half an edge
+// length and more, the level of a raw depth scan, asks the feature mode for several times its
+// passes (docs/studies/noise-estimate.md). 1 where the amplitude was not read.
+inline double heavyNoiseFactor(const NoiseEstimate &noise, const HeavyNoiseParams &params = {}) {
+  if (!(params.from > 0) || !(noise.amplitude > params.from) || !std::isfinite(noise.amplitude))
+    return 1.0;
+  return std::min(std::pow(noise.amplitude / params.from, params.power),
+                  std::max(1.0, params.max_factor));
 }
 
 // How a noise's colour is extrapolated beyond the estimate's bands (noiseColour). Off by default

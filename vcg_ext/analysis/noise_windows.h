@@ -38,9 +38,13 @@ struct NoiseWindowParams {
 };
 
 // The rings from a core vertex outward that its values read (see the file comment).
+// With the amplitude, also its coarser bands' reach (noise_amplitude.h's coarseBandReach).
 inline int noiseWindowMargin(const NoiseEstimateParams &params, const NoiseWindowParams &windows) {
   const int pairs = params.band_pairs.empty() ? 1 : std::max(1, params.band_pairs.back());
-  return 2 * pairs + 1 + windows.spare_rings;
+  const int coarse = params.amplitude ? coarseBandReach(int(params.band_pairs.size()) - 1,
+                                                        params.amplitude_bands)
+                                      : 0;
+  return 2 * pairs + 1 + coarse + windows.spare_rings;
 }
 
 // True, with `out`, when the windows were used; false (`out` untouched): the caller estimates on

@@ -211,13 +211,31 @@ inline std::string measuredCleanPhrase(const NoiseEstimate &noise) {
                     NoiseEstimateParams().max_decay);
 }
 
+// The amplitude in the summary lines (noise_amplitude.h), when it was read.
+inline std::string amplitudePhrase(const NoiseEstimate &noise) {
+  if (!(noise.amplitude > 0)) return std::string();
+  return noise.correlation_steps > 0 && noise.correlated_share > 0.005
+             ? formatLine("amplitude %.3f (%.0f %% of it correlated over about %d rings), ",
+                          noise.amplitude, 100.0 * noise.correlated_share,
+                          std::max(1, int(std::lround(std::sqrt(noise.correlation_steps)))))
+             : formatLine("amplitude %.3f (white), ", noise.amplitude);
+}
+
+// After the strength in the summary lines: the heavy-noise factor when it acts on a noisy mesh
+// (heavyNoiseFactor).
+inline std::string heavyPhrase(double factor, double amount) {
+  return factor > 1 && amount > 0
+             ? formatLine(", the measured amount x %.2f for heavy noise", factor)
+             : std::string();
+}
+
 // The noise estimate in the summary lines.
 inline std::string noisePhrase(const NoiseEstimate &noise, double roughness) {
   return formatLine("noise estimate%s: dihedral spread %.1f deg (%.2f of it left after one Taubin "
-                    "pair), level %.3f mean edge lengths (%.3f in the coarser bands), roughness "
-                    "%.2f",
+                    "pair), level %.3f mean edge lengths (%.3f in the coarser bands), %s"
+                    "roughness %.2f",
                     sampledPhrase(noise).c_str(), noise.spread_deg, noise.decay, noise.level,
-                    noise.correlated_level, roughness);
+                    noise.correlated_level, amplitudePhrase(noise).c_str(), roughness);
 }
 
 // After the strength in the summary lines: the heavy-tail factor when it acts on a noisy mesh

@@ -82,6 +82,9 @@ struct FeatureSmoothParams {
   // need it scales includes the noise's heavy-tail factor (noise_estimate.h's heavyTailFactor).
   double strength = 1.0;
   HeavyTailParams tails;
+  // Heavy noise (an amplitude beyond the public benchmark's) multiplies the need too
+  // (noise_estimate.h's heavyNoiseFactor).
+  HeavyNoiseParams heavy;
   // Closed meshes: two rounds of an offset along the vertex normals at the end restore the
   // input's volume (the pre-pass and the patch updates lose 0.85 % on a coarse organic mesh: the
   // cow; restoreInputVolume).
@@ -103,6 +106,7 @@ struct FeatureSmoothReport {
   double roughness = 0;           // 0 (clean) .. 1 (noisy), from the noise estimate
   double amount = 0;              // the roughness with the user's strength: what scales the passes
   double tail_factor = 1;         // the noise's heavy-tail factor on the need (heavyTailFactor)
+  double heavy_factor = 1;        // the heavy-noise factor on the need (heavyNoiseFactor)
   int prepass_pairs = 0;          // Taubin pairs actually run
   int vertex_iterations = 0;      // vertex updates actually run per pass
   double flat_share = 0;          // edges flat after the first guidance period (planar_extra)
@@ -169,12 +173,15 @@ using FilteredNormalsCheck = std::function<bool(
 // noise's heavy-tail factor, with the user's strength, scales the pre-pass, the normal filter and
 // the vertex updates.
 struct FeaturePassCounts {
-  double spread_deg = 0, roughness = 0, amount = 0, tail_factor = 1;
+  double spread_deg = 0, roughness = 0, amount = 0, tail_factor = 1, heavy_factor = 1;
   int prepass_pairs = 0, normal_iterations = 0, vertex_iterations = 0;
   // The normal filter iterations before the first pass's check
   // (FeatureSmoothParams::check_iterations).
+  // Heavy noise takes as many more of them as its factor (heavyNoiseFactor): after the first
+  // guidance period noise of an edge length leaves a box's faces as rough as an organic shape's.
   int checkIterations(const FeatureSmoothParams &params) const {
-    return std::min(normal_iterations, std::max(1, params.check_iterations));
+    const int check = int(std::lround(std::max(1, params.check_iterations) * heavy_factor));
+    return std::min(normal_iterations, std::max(1, check));
   }
 };
 
@@ -189,7 +196,8 @@ inline FeaturePassCounts featurePassCounts(const MeshArrays &mesh, const Feature
   // The factor scales the measured need, not the user's strength: a mesh measured as clean
   // (need 0) stays as it is.
   c.tail_factor = heavyTailFactor(setup.noise, params.tails);
-  c.amount = strengthen(c.roughness * c.tail_factor, params.strength);
+  c.heavy_factor = heavyNoiseFactor(setup.noise, params.heavy);
+  c.amount = strengthen(c.roughness * c.tail_factor * c.heavy_factor, params.strength);
   auto scaled = [&](int count) { return int(std::lround(c.amount * std::max(0, count))); };
   c.prepass_pairs = scaled(params.prepass_pairs);
   c.normal_iterations = scaled(params.normals.iterations);
@@ -399,6 +407,7 @@ inline void reportPassCounts(const FeaturePassCounts &counts, const DriverSetup 
   report.roughness = counts.roughness;
   report.amount = counts.amount;
   report.tail_factor = counts.tail_factor;
+  report.heavy_factor = counts.heavy_factor;
   report.prepass_pairs = counts.prepass_pairs;
   report.normal_iterations = counts.normal_iterations;
   report.vertex_iterations = counts.vertex_iterations;
@@ -527,7 +536,9 @@ inline std::string featureSummary(const FeatureSmoothReport &r, const FeatureSmo
   return "Feature-preserving: " + noisePhrase(r.noise, r.roughness) +
          formatLine("; strength %.2f%s: %d pre-pass pairs, %d normal filter iterations and %d "
                     "vertex updates per pass, %d passes; ",
-                    p.strength, tailPhrase(r.tail_factor, r.amount, r.noise).c_str(),
+                    p.strength,
+                    (tailPhrase(r.tail_factor, r.amount, r.noise) +
+                     heavyPhrase(r.heavy_factor, r.amount)).c_str(),
                     r.prepass_pairs, r.normal_iterations, r.vertex_iterations,
                     r.outer_iterations_done) +
          movedPhrase(run, vertices) + ".";
