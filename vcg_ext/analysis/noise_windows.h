@@ -35,16 +35,67 @@ struct NoiseWindowParams {
   int min_windows = 32, max_windows = 64;
   double max_face_share = 0.45; // windows that would take more than this: the whole mesh
   int spare_rings = 2;          // beyond the 2·(last band edge) + 1 rings the values read
+  // The amplitude (noise_amplitude.h) reads about 40 rings more: it takes its own few windows,
+  // their cores a sample of a mean, not of a median (docs/studies/noise-estimate.md).
+  int amplitude_windows = 8, amplitude_core_rings = 16;
 };
 
 // The rings from a core vertex outward that its values read (see the file comment).
 // With the amplitude, also its coarser bands' reach (noise_amplitude.h's coarseBandReach).
-inline int noiseWindowMargin(const NoiseEstimateParams &params, const NoiseWindowParams &windows) {
+inline int noiseWindowMargin(const NoiseEstimateParams &params, const NoiseWindowParams &windows,
+                             bool with_amplitude = false) {
   const int pairs = params.band_pairs.empty() ? 1 : std::max(1, params.band_pairs.back());
-  const int coarse = params.amplitude ? coarseBandReach(int(params.band_pairs.size()) - 1,
-                                                        params.amplitude_bands)
-                                      : 0;
+  const int coarse = with_amplitude ? coarseBandReach(int(params.band_pairs.size()) - 1,
+                                                      params.amplitude_bands)
+                                    : 0;
   return 2 * pairs + 1 + coarse + windows.spare_rings;
+}
+
+namespace detail {
+
+// The estimate over the cores of the windows `distance` and `source` describe (meshWindows).
+inline NoiseEstimate measureOnWindows(const MeshArrays &mesh, const std::vector<std::uint8_t> &fixed,
+                                      const std::vector<int> &distance,
+                                      const std::vector<int> &source, int core_rings, int reach,
+                                      const Rings &rings, double edge,
+                                      const NoiseEstimateParams &params) {
+  const MeshWindows w = meshWindows(mesh, fixed, distance, source, core_rings, reach);
+  const Rings window_rings = computeRings(int(w.mesh.points.size()), w.mesh.faces, false);
+  const VertexRoles roles = vertexRoles(w.mesh, window_rings, edge);
+  const FaceRings face_rings = computeFaceRings(w.mesh.faces, window_rings,
+                                                /*with_edge_neighbours=*/true, /*with_lists=*/false);
+  return measureNoise(w.mesh.points, w.mesh.faces, window_rings, face_rings, roles,
+                      noiseFrame(mesh.points, rings, edge), &w.core_vertex, &w.core, params);
+}
+
+// The faces within `core_rings` of a seed (all three corners), as meshWindows counts its cores.
+inline std::vector<std::uint8_t> windowCores(const std::vector<Face> &faces,
+                                             const std::vector<int> &distance, int core_rings) {
+  std::vector<std::uint8_t> core(faces.size());
+  auto in = [&](int v) { return distance[v] >= 0 && distance[v] <= core_rings; };
+  for (size_t g = 0; g < faces.size(); ++g)
+    core[g] = in(faces[g][0]) && in(faces[g][1]) && in(faces[g][2]);
+  return core;
+}
+
+} // namespace detail
+
+// The amplitude of a large mesh on its own few windows (NoiseWindowParams::amplitude_windows),
+// whose margins cover the coarse bands: into `out`, which keeps the spectrum's figures.
+inline void readAmplitudeOnWindows(const MeshArrays &mesh, const Rings &rings,
+                                   const std::vector<std::uint8_t> &fixed, double edge,
+                                   const NoiseWindowParams &windows,
+                                   const NoiseEstimateParams &params, NoiseEstimate &out) {
+  const int reach = windows.amplitude_core_rings + noiseWindowMargin(params, windows, true);
+  const std::vector<int> seeds = detail::windowSeeds(rings, fixed, windows.amplitude_windows);
+  if (seeds.empty()) return;
+  std::vector<int> source;
+  const std::vector<int> distance = detail::ringDistance(rings, seeds, reach, &source);
+  const NoiseEstimate a = detail::measureOnWindows(
+      mesh, fixed, distance, source, windows.amplitude_core_rings, reach, rings, edge, params);
+  out.amplitude = a.amplitude;
+  out.correlation_steps = a.correlation_steps;
+  out.correlated_share = a.correlated_share;
 }
 
 // True, with `out`, when the windows were used; false (`out` untouched): the caller estimates on
@@ -66,17 +117,14 @@ inline bool estimateNoiseOnWindows(const MeshArrays &mesh, const Rings &rings,
       windows.max_face_share * double(m))
     return false;
 
-  const MeshWindows w = meshWindows(mesh, fixed, distance, source, windows.core_rings, reach);
-  const Rings window_rings = computeRings(int(w.mesh.points.size()), w.mesh.faces, false);
-  const detail::VertexRoles roles = detail::vertexRoles(w.mesh, window_rings, edge);
-  const FaceRings face_rings = computeFaceRings(w.mesh.faces, window_rings,
-                                                /*with_edge_neighbours=*/true, /*with_lists=*/false);
-  out = detail::measureNoise(w.mesh.points, w.mesh.faces, window_rings, face_rings, roles,
-                             detail::noiseFrame(mesh.points, rings, edge), &w.core_vertex, &w.core,
-                             params);
+  NoiseEstimateParams spectrum = params;
+  spectrum.amplitude = false;
+  out = detail::measureOnWindows(mesh, fixed, distance, source, windows.core_rings, reach, rings,
+                                 edge, spectrum);
   long core_faces = 0;
-  for (std::uint8_t c : w.core) core_faces += c;
+  for (std::uint8_t c : detail::windowCores(mesh.faces, distance, windows.core_rings)) core_faces += c;
   out.sampled_share = m > 0 ? double(core_faces) / double(m) : 1.0;
+  if (params.amplitude && out.noisy) readAmplitudeOnWindows(mesh, rings, fixed, edge, windows, params, out);
   return true;
 }
 
