@@ -22,11 +22,12 @@ import scanner_bench  # noqa: E402
 from bench import SD  # noqa: E402
 
 REPO = bench.REPO
-# Issue 16: the public benchmark's theta today (must not get worse).
-PUBLIC = {"Fandisk0.3": 2.75, "Block0.4": 3.66, "SharpSphere0.3": 7.46,
-          "Twelve0.5Impulsive": 3.63, "Bunny0.2": 5.70}
+# The public benchmark's theta that must not get worse (the figures the scanner-noise work started
+# from), and the 139k time limit (2.5x Taubin x10 since quality comes first at that size).
+PUBLIC = {"Fandisk0.3": 2.59, "Block0.4": 3.66, "SharpSphere0.3": 7.46,
+          "Twelve0.5Impulsive": 2.69, "Bunny0.2": 5.43}
 CLEAN_CHANGE_DEG = 0.5
-TIME_RATIO = 2.0
+TIME_RATIO = 2.5
 
 
 def line(ok, text):
