@@ -87,6 +87,12 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   r["tail_max"] = [&p](double v) { p.feature.tails.max_factor = p.organic.tails.max_factor = v; };
   r["tail_from"] = [&p](double v) { p.feature.tails.level_from = p.organic.tails.level_from = v; };
   r["tail_full"] = [&p](double v) { p.feature.tails.level_full = p.organic.tails.level_full = v; };
+  // Impulses: one setting for both modes (the automatic mode reads the feature mode's).
+  r["imp.rounds"] = [&p](double v) { p.feature.impulses.rounds = p.organic.impulses.rounds = int(v); };
+  r["imp.min_share"] = [&p](double v) { p.feature.impulses.min_share = p.organic.impulses.min_share = v; };
+  r["imp.min_size"] = [&p](double v) { p.feature.impulses.min_size = p.organic.impulses.min_size = v; };
+  r["imp.relative_size"] = [&p](double v) { p.feature.impulses.relative_size = p.organic.impulses.relative_size = v; };
+  r["imp.isolation"] = [&p](double v) { p.feature.impulses.isolation = p.organic.impulses.isolation = v; };
   real("o.level_coloured", o.colour.level_coloured);
   real("o.noise_scale", o.bands.noise_scale);
   real("o.min_noise_edges", o.bands.min_noise_edges);
@@ -187,6 +193,11 @@ void printFigures(const Run &run, double seconds, int faces) {
               a.evidence.flat_share, a.evidence.confirmed_share, a.evidence.crease_pairs);
   std::printf(", \"tail\": %.4f, \"tail_factor\": %.4f", noise.tail,
               feature ? feature->tail_factor : organic->tail_factor);
+  const Impulses &impulses = feature == &run.f   ? run.f.impulses
+                             : organic == &run.o ? run.o.impulses
+                                                 : run.a.impulses;
+  std::printf(", \"impulse_share\": %.5f, \"impulse_size\": %.4f, \"impulse_moves\": %ld",
+              impulses.share, impulses.median_size, impulses.moved);
   if (a.windowed)
     std::printf(", \"windowed\": true, \"flat_error\": %.4f, \"confirmed_error\": %.4f, "
                 "\"window_face_share\": %.3f",

@@ -71,7 +71,7 @@ def table(cases, results):
          "the organic mode forced, and whether the default's θ is within 5 % of the better.", "",
          "| case | noisy | ours default | ours Iterations 6 | modes: feature / organic (within 5 %) "
          "| peers at defaults | SD filter defaults | oracle | ratio |", "|" + "---|" * 9]
-    below_defaults, ratios, mode_ok = 0, [], 0
+    below_defaults, below_sd, ratios, mode_ok = 0, 0, [], 0
     for case in cases:
         r = results[case["name"]]
         ours = r["ours automatic (default)"].get("theta_deg")
@@ -88,12 +88,14 @@ def table(cases, results):
         ratio = ours / oracle if finite(ours) and oracle > 0 else float("nan")
         ratios.append(ratio)
         below_defaults += finite(ours) and ours < d.get("theta_deg", 1e9)
+        below_sd += finite(ours) and ours < sd.get("theta_deg", 1e9)
         L.append(f"| {case['name']} | {fmt(r['noisy']['theta_deg'])} | {fmt(ours)} | "
                  f"{fmt(stronger)} | {fmt(feature)} / {fmt(organic)} ({'yes' if within else 'no'}) | "
                  f"{fmt(d.get('theta_deg'))} ({dlabel}) | "
                  f"{fmt(sd.get('theta_deg'))} | {fmt(oracle)} ({olabel}) | {ratio:.2f} |")
     good = [x for x in ratios if finite(x)]
-    L += ["", f"- Below every peer at its defaults: {below_defaults} of {len(cases)}.",
+    L += ["", f"- Below every peer at its defaults: {below_defaults} of {len(cases)}; below the SD "
+          f"filter at its defaults: {below_sd} of {len(cases)}.",
           f"- Within 5 % of the better of its two modes: {mode_ok} of {len(cases)}.",
           f"- Ratio to the oracle: mean {sum(good) / max(1, len(good)):.3f}, "
           f"above 1.10 on {sum(x > 1.10 for x in good)} of {len(good)}."]

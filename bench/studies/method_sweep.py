@@ -8,7 +8,8 @@ sets the scanner-noise work is judged on, fast and in-process, for choosing and 
                                   [--peers bench/out/scanner/raw.json] [--base TAG] [--tag TAG]
                                   [name=value ...]
 
-- scanner: the twelve cases of bench/scanner_noise.py; heavy: its heavy set (make_heavy_cases:
+- impulsive: bench/studies/impulsive_noise.py's 14 cases (seven organic meshes, dense and sparse
+  impulses); scanner: the twelve cases of bench/scanner_noise.py; heavy: its heavy set (make_heavy_cases:
   analytic shapes and three meshes at 0.6 and 1 mean edge lengths, four views and a red spectrum); light: add_noise 0.05 / 0.1 in random
   directions on Bunny, the paper's cow, Fandisk, camel (as bench/scanner_bench.py); public: the
   benchmark's five noisy cases; real: the three real scans (mean displacement in mean edge lengths
@@ -65,6 +66,10 @@ def cases(sets, build):
     if "heavy" in sets:
         for c in scanner_noise.make_heavy_cases(made / "heavy"):
             out.append(dict(name=c["name"], noisy=c["noisy"], clean=c["clean"], group="heavy"))
+    if "impulsive" in sets:
+        import impulsive_noise  # noqa: E402 (its cases only)
+        for c in impulsive_noise.make_cases(made / "impulsive", False):
+            out.append(dict(name=c["name"], noisy=c["noisy"], clean=c["clean"], group="impulsive"))
     if "light" in sets:
         for label, kind, name in LIGHT:
             clean, _ = scanner_noise.clean_mesh(kind, name, made)

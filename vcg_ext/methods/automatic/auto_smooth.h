@@ -50,6 +50,7 @@ struct AutoSmoothReport {
   long window_faces = 0;        // the faces the windows held
   double flat_error = 0, confirmed_error = 0; // the windows' standard errors of the shares
   double seconds_windows = 0;   // the windows' evidence (also when it was not clear enough)
+  Impulses impulses;            // read, and put back first (impulse_repair.h)
 };
 
 namespace detail {
@@ -204,8 +205,16 @@ inline AutoSmoothReport autoSmoothMesh(const MeshArrays &mesh, const AutoSmoothP
   return detail::inSpatialOrder(mesh, out_points, quantities,
                                 [&](const MeshArrays &ordered, std::vector<Vec3> &out,
                                     VertexQuantities &q) {
-                                  return detail::autoSmoothAsGiven(ordered, params, out, q,
-                                                                   progress);
+                                  // (the feature mode's impulse settings: one reading for both)
+                                  return detail::withImpulsesRepaired(
+                                      ordered, params.feature.impulses, params.feature.strength,
+                                      params.feature.selected_only, params.feature.saliency_scale,
+                                      out, q,
+                                      [&](const MeshArrays &m, std::vector<Vec3> &o,
+                                          VertexQuantities &qq) {
+                                        return detail::autoSmoothAsGiven(m, params, o, qq,
+                                                                         progress);
+                                      });
                                 });
 }
 
@@ -254,14 +263,20 @@ inline MethodRun automaticMethod(const MeshArrays &mesh, const MethodParams &p,
   AutoSmoothParams params;
   detail::readCommonParams(p, params.feature);
   detail::readCommonParams(p, params.organic);
-  const AutoSmoothReport r = autoSmoothMesh(mesh, params, out_points, quantities, progress);
+  AutoSmoothReport r = autoSmoothMesh(mesh, params, out_points, quantities, progress);
+  r.feature.impulses = r.organic.impulses = r.impulses; // (for the modes' summaries)
   MethodRun run;
   run.cancelled = r.cancelled;
   if (r.cancelled) return run;
   if (!r.decided) {
-    run.method = "none (clean)";
+    run.method = r.impulses.moved > 0 ? "impulses only" : "none (clean)";
     run.roughness = r.feature.roughness;
-    run.summary = "Automatic: " + detail::measuredCleanPhrase(r.feature.noise) + ".";
+    if (r.impulses.moved > 0) detail::measureMovement(quantities, r.feature.mean_edge_length, run);
+    run.summary = "Automatic: " +
+                  (r.impulses.moved > 0
+                       ? detail::cleanAfterImpulsesPhrase(r.impulses, r.feature.noise)
+                       : detail::measuredCleanPhrase(r.feature.noise)) +
+                  ".";
     run.details = detail::featureDetails(r.feature);
     return run;
   }

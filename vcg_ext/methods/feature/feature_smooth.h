@@ -20,6 +20,7 @@
 #pragma once
 
 #include "vcg_ext/methods/driver_setup.h"
+#include "vcg_ext/methods/impulse_repair.h"
 #include "vcg_ext/methods/feature/face_patches.h"
 #include "vcg_ext/methods/automatic/mode_choice.h"
 
@@ -85,6 +86,8 @@ struct FeatureSmoothParams {
   // Heavy noise (an amplitude beyond the public benchmark's) multiplies the need too
   // (noise_estimate.h's heavyNoiseFactor).
   HeavyNoiseParams heavy;
+  // Impulses (single vertices far off the surface) are put back first (impulse_repair.h).
+  ImpulseParams impulses;
   // Closed meshes: two rounds of an offset along the vertex normals at the end restore the
   // input's volume (the pre-pass and the patch updates lose 0.85 % on a coarse organic mesh: the
   // cow; restoreInputVolume).
@@ -107,6 +110,7 @@ struct FeatureSmoothReport {
   double amount = 0;              // the roughness with the user's strength: what scales the passes
   double tail_factor = 1;         // the noise's heavy-tail factor on the need (heavyTailFactor)
   double heavy_factor = 1;        // the heavy-noise factor on the need (heavyNoiseFactor)
+  Impulses impulses;              // read, and put back first (impulse_repair.h)
   int prepass_pairs = 0;          // Taubin pairs actually run
   int vertex_iterations = 0;      // vertex updates actually run per pass
   double flat_share = 0;          // edges flat after the first guidance period (planar_extra)
@@ -523,8 +527,14 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
   return detail::inSpatialOrder(mesh, out_points, quantities,
                                 [&](const MeshArrays &ordered, std::vector<Vec3> &out,
                                     VertexQuantities &q) {
-                                  return detail::featureSmoothAsGiven(ordered, params, out, q,
-                                                                      progress);
+                                  return detail::withImpulsesRepaired(
+                                      ordered, params.impulses, params.strength,
+                                      params.selected_only, params.saliency_scale, out, q,
+                                      [&](const MeshArrays &m, std::vector<Vec3> &o,
+                                          VertexQuantities &qq) {
+                                        return detail::featureSmoothAsGiven(m, params, o, qq,
+                                                                            progress);
+                                      });
                                 });
 }
 
@@ -532,8 +542,10 @@ namespace detail {
 
 inline std::string featureSummary(const FeatureSmoothReport &r, const FeatureSmoothParams &p,
                                   const MethodRun &run, size_t vertices) {
+  if (r.amount <= 0 && r.impulses.moved > 0)
+    return "Feature-preserving: " + cleanAfterImpulsesPhrase(r.impulses, r.noise) + ".";
   if (r.amount <= 0) return "Feature-preserving: " + measuredCleanPhrase(r.noise) + ".";
-  return "Feature-preserving: " + noisePhrase(r.noise, r.roughness) +
+  return "Feature-preserving: " + noisePhrase(r.noise, r.roughness) + impulsePhrase(r.impulses) +
          formatLine("; strength %.2f%s: %d pre-pass pairs, %d normal filter iterations and %d "
                     "vertex updates per pass, %d passes; ",
                     p.strength,

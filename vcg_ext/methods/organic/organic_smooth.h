@@ -14,6 +14,7 @@
 
 #include "vcg_ext/methods/organic/band_shrink.h"
 #include "vcg_ext/methods/driver_setup.h"
+#include "vcg_ext/methods/impulse_repair.h"
 #include "vcg_ext/methods/feature/face_patches.h"
 #include "vcg_ext/methods/organic/fold_repair.h"
 
@@ -59,6 +60,8 @@ struct OrganicSmoothParams {
   // heavy-tailed by its shape detail, is below the level (docs/studies/organic-mode.md).
   FoldRepairParams folds;
   double fold_min_tail = 1.2, fold_min_level = 0.08;
+  // Impulses (single vertices far off the surface) are put back first (impulse_repair.h).
+  ImpulseParams impulses;
 };
 
 struct OrganicSmoothReport {
@@ -73,6 +76,7 @@ struct OrganicSmoothReport {
   double amount = 0; // the share of the measured noise level removed, with the user's strength
   double tail_factor = 1; // the noise's heavy-tail factor on the measured need (heavyTailFactor)
   long fold_moves = 0; // moves of folded vertices onto their ring's barycentre (fold_repair.h)
+  Impulses impulses;   // read, and put back first (impulse_repair.h)
   BandShrinkReport bands;
   double volume_before = 0, volume_after = 0;
   bool closed = false;
@@ -275,8 +279,14 @@ inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
   return detail::inSpatialOrder(mesh, out_points, quantities,
                                 [&](const MeshArrays &ordered, std::vector<Vec3> &out,
                                     VertexQuantities &q) {
-                                  return detail::organicSmoothAsGiven(ordered, params, out, q,
-                                                                      progress);
+                                  return detail::withImpulsesRepaired(
+                                      ordered, params.impulses, params.strength,
+                                      params.selected_only, params.saliency_scale, out, q,
+                                      [&](const MeshArrays &m, std::vector<Vec3> &o,
+                                          VertexQuantities &qq) {
+                                        return detail::organicSmoothAsGiven(m, params, o, qq,
+                                                                            progress);
+                                      });
                                 });
 }
 
@@ -284,8 +294,10 @@ namespace detail {
 
 inline std::string organicSummary(const OrganicSmoothReport &r, const OrganicSmoothParams &p,
                                   const MethodRun &run, size_t vertices) {
+  if (r.amount <= 0 && r.impulses.moved > 0)
+    return "Organic: " + cleanAfterImpulsesPhrase(r.impulses, r.noise) + ".";
   if (r.amount <= 0) return "Organic: " + measuredCleanPhrase(r.noise) + ".";
-  return "Organic: " + noisePhrase(r.noise, r.roughness) +
+  return "Organic: " + noisePhrase(r.noise, r.roughness) + impulsePhrase(r.impulses) +
          formatLine("; strength %.2f%s: ", p.strength,
                     tailPhrase(r.tail_factor, r.amount, r.noise).c_str()) +
          (r.fold_moves > 0 ? formatLine("untangled folds (%ld vertex moves), ", r.fold_moves)
