@@ -154,14 +154,12 @@ inline Impulses findImpulses(const std::vector<Vec3> &points, const std::vector<
   return out;
 }
 
-// Finds the impulses of `points` and, when they are at least params.min_share of the movable
-// vertices, moves them back (params.rounds rounds). Returns the first round's reading and how
-// many moves were made.
-inline Impulses repairImpulses(std::vector<Vec3> &points, const std::vector<Face> &faces,
-                               const Rings &rings, const std::vector<std::uint8_t> &fixed,
-                               double edge, const ImpulseParams &params = {}) {
-  Impulses out = findImpulses(points, faces, rings, fixed, edge, params);
-  if (out.share < params.min_share || out.found == 0) return out;
+// Moves the impulses of `points` back (params.rounds rounds, also two side by side; see the file
+// comment), whatever their share. Returns the moves made.
+inline long putBackImpulses(std::vector<Vec3> &points, const std::vector<Face> &faces,
+                            const Rings &rings, const std::vector<std::uint8_t> &fixed,
+                            double edge, const ImpulseParams &params = {}) {
+  long total = 0;
   std::vector<Vec3> normals;
   for (int round = 0; round < params.rounds; ++round) {
     const std::vector<double> deviation =
@@ -177,9 +175,25 @@ inline Impulses repairImpulses(std::vector<Vec3> &points, const std::vector<Face
         points[v] -= normals[v] * (deviation[v] * k / (k + 1) * edge);
         ++moved;
       }
-    out.moved += moved;
+    total += moved;
     if (moved == 0) break;
   }
+  return total;
+}
+
+// True when `found` (findImpulses) holds enough impulses to act on (ImpulseParams::min_share).
+inline bool enoughImpulses(const Impulses &found, const ImpulseParams &params = {}) {
+  return found.found > 0 && found.share >= params.min_share;
+}
+
+// Finds the impulses of `points` and, when there are enough of them (enoughImpulses), puts them
+// back (putBackImpulses). Returns the reading and how many moves were made.
+inline Impulses repairImpulses(std::vector<Vec3> &points, const std::vector<Face> &faces,
+                               const Rings &rings, const std::vector<std::uint8_t> &fixed,
+                               double edge, const ImpulseParams &params = {}) {
+  Impulses out = findImpulses(points, faces, rings, fixed, edge, params);
+  if (enoughImpulses(out, params))
+    out.moved = putBackImpulses(points, faces, rings, fixed, edge, params);
   return out;
 }
 

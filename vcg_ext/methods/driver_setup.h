@@ -425,12 +425,14 @@ inline double inputSpreadDeg(const MeshArrays &mesh, DriverSetup &setup) {
   return setup.input_spread_deg;
 }
 
+// `rings`: the mesh's rings without 2-rings when the caller has them already (moved in).
 inline DriverSetup driverSetup(const MeshArrays &mesh, bool selected_only,
                                BoundaryMode boundary = BoundaryMode::NoInward,
-                               bool with_face_rings = true, bool with_two_rings = false) {
+                               bool with_face_rings = true, bool with_two_rings = false,
+                               Rings *rings = nullptr) {
   DriverSetup s;
   const int n = int(mesh.points.size());
-  s.rings = computeRings(n, mesh.faces, with_two_rings);
+  s.rings = rings && !with_two_rings ? std::move(*rings) : computeRings(n, mesh.faces, with_two_rings);
   s.stats = edgeStatistics(mesh.points, s.rings);
   s.roles = vertexRoles(mesh, s.rings, s.stats.mean_edge_length);
   s.closed = s.rings.boundary_edges == 0 && s.rings.nonmanifold_edges == 0;

@@ -20,41 +20,48 @@ inline std::vector<std::uint8_t> impulseFixed(const MeshArrays &mesh, const Ring
   return fixed;
 }
 
-// Runs `drive(mesh, out, quantities)` (a measured driver, as given; its report has `impulses`) on
-// `mesh` with its impulses put back when there are enough of them (repairImpulses) and the user's
-// strength is above 0. The result's quantities then measure the displacement from `mesh` itself;
-// where the driver leaves the repaired mesh as it is (it measures clean), the result is the
-// repaired mesh, described like any other.
+// Runs `drive(mesh, out, quantities, setup)` (a measured driver, as given, on the set-up made
+// here; its report has `impulses`) on `mesh` with its impulses put back when there are enough of
+// them (enoughImpulses) and the user's strength is above 0. The rings are computed once, for the
+// reading and the set-up. The result's quantities then measure the displacement from `mesh`
+// itself; where the driver leaves the repaired mesh as it is (it measures clean), the result is
+// the repaired mesh, described like any other.
 template <class Drive>
 auto withImpulsesRepaired(const MeshArrays &mesh, const ImpulseParams &params, double strength,
-                          bool selected_only, double saliency_scale,
+                          bool selected_only, BoundaryMode boundary, double saliency_scale,
                           std::vector<Vec3> &out_points, VertexQuantities &quantities,
                           Drive drive) {
-  if (!(strength > 0) || mesh.faces.empty() || params.rounds <= 0)
-    return drive(mesh, out_points, quantities);
-  const Rings rings = computeRings(int(mesh.points.size()), mesh.faces, false);
-  const EdgeStatistics stats = edgeStatistics(mesh.points, rings);
+  Rings rings = computeRings(int(mesh.points.size()), mesh.faces, false);
+  Impulses impulses;
   MeshArrays repaired;
-  repaired.points = mesh.points;
-  const Impulses impulses = repairImpulses(
-      repaired.points, mesh.faces, rings,
-      impulseFixed(mesh, rings, stats.mean_edge_length, selected_only), stats.mean_edge_length,
-      params);
+  if (strength > 0 && !mesh.faces.empty() && params.rounds > 0) {
+    const double edge = edgeStatistics(mesh.points, rings).mean_edge_length;
+    const std::vector<std::uint8_t> fixed = impulseFixed(mesh, rings, edge, selected_only);
+    impulses = findImpulses(mesh.points, mesh.faces, rings, fixed, edge, params);
+    if (enoughImpulses(impulses, params)) {
+      repaired.points = mesh.points;
+      impulses.moved = putBackImpulses(repaired.points, mesh.faces, rings, fixed, edge, params);
+    }
+  }
   if (impulses.moved == 0) {
-    auto report = drive(mesh, out_points, quantities);
+    DriverSetup setup = driverSetup(mesh, selected_only, boundary, true, false, &rings);
+    auto report = drive(mesh, out_points, quantities, setup);
     report.impulses = impulses;
     return report;
   }
   repaired.faces = mesh.faces;
   repaired.selected = mesh.selected;
   repaired.spatially_ordered = mesh.spatially_ordered;
-  auto report = drive(repaired, out_points, quantities);
+  DriverSetup setup = driverSetup(repaired, selected_only, boundary, true, false, &rings);
+  auto report = drive(repaired, out_points, quantities, setup);
   report.impulses = impulses;
   if (report.cancelled) return report;
   if (out_points.size() != mesh.points.size()) {
     out_points = repaired.points;
-    describeResult(mesh.points, out_points, mesh.faces, rings,
-                   saliency_scale * stats.bbox_diagonal, quantities);
+    if (setup.rings.vertex_count != int(mesh.points.size()))
+      setup.rings = computeRings(int(mesh.points.size()), mesh.faces, false);
+    describeResult(mesh.points, out_points, mesh.faces, setup.rings,
+                   saliency_scale * setup.stats.bbox_diagonal, quantities);
   } else {
     for (size_t v = 0; v < out_points.size(); ++v)
       quantities.displacement[v] = (out_points[v] - mesh.points[v]).norm();

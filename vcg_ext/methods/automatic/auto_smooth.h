@@ -163,14 +163,18 @@ inline void runChosenMode(const MeshArrays &mesh, const AutoSmoothParams &params
   }
 }
 
+// `given_setup`: the set-up when the caller has it already (impulse_repair.h), else made here.
 inline AutoSmoothReport autoSmoothAsGiven(const MeshArrays &mesh, const AutoSmoothParams &params,
                                           std::vector<Vec3> &out_points,
                                           VertexQuantities &quantities,
-                                          const ProgressFn &progress) {
+                                          const ProgressFn &progress,
+                                          DriverSetup *given_setup = nullptr) {
   AutoSmoothReport report;
   const auto start = Clock::now();
-  detail::DriverSetup setup =
-      detail::driverSetup(mesh, params.feature.selected_only, params.feature.boundary);
+  std::optional<DriverSetup> own_setup;
+  if (!given_setup)
+    own_setup.emplace(driverSetup(mesh, params.feature.selected_only, params.feature.boundary));
+  DriverSetup &setup = given_setup ? *given_setup : *own_setup;
   report.seconds_setup = secondsSince(start);
   if (progress && !progress(1, "Choosing the mode")) return report.cancelled = true, report;
   if (decideOnWindows(mesh, params, setup, report)) {
@@ -208,12 +212,12 @@ inline AutoSmoothReport autoSmoothMesh(const MeshArrays &mesh, const AutoSmoothP
                                   // (the feature mode's impulse settings: one reading for both)
                                   return detail::withImpulsesRepaired(
                                       ordered, params.feature.impulses, params.feature.strength,
-                                      params.feature.selected_only, params.feature.saliency_scale,
-                                      out, q,
+                                      params.feature.selected_only, params.feature.boundary,
+                                      params.feature.saliency_scale, out, q,
                                       [&](const MeshArrays &m, std::vector<Vec3> &o,
-                                          VertexQuantities &qq) {
+                                          VertexQuantities &qq, detail::DriverSetup &setup) {
                                         return detail::autoSmoothAsGiven(m, params, o, qq,
-                                                                         progress);
+                                                                         progress, &setup);
                                       });
                                 });
 }

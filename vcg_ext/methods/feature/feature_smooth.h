@@ -529,11 +529,12 @@ inline FeatureSmoothReport featureSmoothMesh(const MeshArrays &mesh,
                                     VertexQuantities &q) {
                                   return detail::withImpulsesRepaired(
                                       ordered, params.impulses, params.strength,
-                                      params.selected_only, params.saliency_scale, out, q,
+                                      params.selected_only, params.boundary,
+                                      params.saliency_scale, out, q,
                                       [&](const MeshArrays &m, std::vector<Vec3> &o,
-                                          VertexQuantities &qq) {
-                                        return detail::featureSmoothAsGiven(m, params, o, qq,
-                                                                            progress);
+                                          VertexQuantities &qq, detail::DriverSetup &setup) {
+                                        return detail::featureSmoothAsGiven(
+                                            m, params, o, qq, progress, nullptr, &setup);
                                       });
                                 });
 }

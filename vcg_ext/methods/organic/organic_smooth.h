@@ -281,11 +281,12 @@ inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
                                     VertexQuantities &q) {
                                   return detail::withImpulsesRepaired(
                                       ordered, params.impulses, params.strength,
-                                      params.selected_only, params.saliency_scale, out, q,
+                                      params.selected_only, params.boundary,
+                                      params.saliency_scale, out, q,
                                       [&](const MeshArrays &m, std::vector<Vec3> &o,
-                                          VertexQuantities &qq) {
+                                          VertexQuantities &qq, detail::DriverSetup &setup) {
                                         return detail::organicSmoothAsGiven(m, params, o, qq,
-                                                                            progress);
+                                                                            progress, &setup);
                                       });
                                 });
 }
