@@ -66,7 +66,6 @@ def peers_at(r, which):
 def table(cases, results):
     L = ["θ (°) against the clean mesh; *peers at defaults*: the lowest of MeshLab's four filters "
          "and the SD filter at their defaults; *oracle*: the lowest of every peer's sweep, chosen "
-         "per case with the clean mesh; ratio: ours / oracle.", "",
          "per case with the clean mesh; ratio: ours / oracle; *modes*: the feature-preserving and "
          "the organic mode forced, and whether the default's θ is within 5 % of the better.", "",
          "| case | noisy | ours default | ours Iterations 6 | modes: feature / organic (within 5 %) "
