@@ -69,6 +69,22 @@ auto withImpulsesRepaired(const MeshArrays &mesh, const ImpulseParams &params, d
   return report;
 }
 
+// A measured driver as the filter runs it: on the mesh in spatial order (inSpatialOrder), its
+// impulses put back first (withImpulsesRepaired), with the settings of `p` (FeatureSmoothParams
+// or OrganicSmoothParams: impulses, strength, selected_only, boundary, saliency_scale).
+// `drive(mesh, out, quantities, setup)` is the driver as given.
+template <class Params, class Drive>
+auto measuredDriverRun(const MeshArrays &mesh, const Params &p, std::vector<Vec3> &out_points,
+                       VertexQuantities &quantities, Drive drive) {
+  return inSpatialOrder(mesh, out_points, quantities,
+                        [&](const MeshArrays &ordered, std::vector<Vec3> &out,
+                            VertexQuantities &q) {
+                          return withImpulsesRepaired(ordered, p.impulses, p.strength,
+                                                      p.selected_only, p.boundary,
+                                                      p.saliency_scale, out, q, drive);
+                        });
+}
+
 // After the noise estimate in the summary lines: the impulses read, and whether they were put
 // back.
 inline std::string impulsePhrase(const Impulses &impulses) {

@@ -206,20 +206,13 @@ inline AutoSmoothReport autoSmoothAsGiven(const MeshArrays &mesh, const AutoSmoo
 inline AutoSmoothReport autoSmoothMesh(const MeshArrays &mesh, const AutoSmoothParams &params,
                                        std::vector<Vec3> &out_points, VertexQuantities &quantities,
                                        const ProgressFn &progress = nullptr) {
-  return detail::inSpatialOrder(mesh, out_points, quantities,
-                                [&](const MeshArrays &ordered, std::vector<Vec3> &out,
-                                    VertexQuantities &q) {
-                                  // (the feature mode's impulse settings: one reading for both)
-                                  return detail::withImpulsesRepaired(
-                                      ordered, params.feature.impulses, params.feature.strength,
-                                      params.feature.selected_only, params.feature.boundary,
-                                      params.feature.saliency_scale, out, q,
-                                      [&](const MeshArrays &m, std::vector<Vec3> &o,
-                                          VertexQuantities &qq, detail::DriverSetup &setup) {
-                                        return detail::autoSmoothAsGiven(m, params, o, qq,
-                                                                         progress, &setup);
-                                      });
-                                });
+  // The feature mode's settings for the impulses: one reading for both modes.
+  return detail::measuredDriverRun(
+      mesh, params.feature, out_points, quantities,
+      [&](const MeshArrays &m, std::vector<Vec3> &o, VertexQuantities &q,
+          detail::DriverSetup &setup) {
+        return detail::autoSmoothAsGiven(m, params, o, q, progress, &setup);
+      });
 }
 
 namespace detail {

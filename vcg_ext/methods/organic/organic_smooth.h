@@ -276,19 +276,12 @@ inline OrganicSmoothReport organicSmoothMesh(const MeshArrays &mesh,
                                              std::vector<Vec3> &out_points,
                                              VertexQuantities &quantities,
                                              const ProgressFn &progress = nullptr) {
-  return detail::inSpatialOrder(mesh, out_points, quantities,
-                                [&](const MeshArrays &ordered, std::vector<Vec3> &out,
-                                    VertexQuantities &q) {
-                                  return detail::withImpulsesRepaired(
-                                      ordered, params.impulses, params.strength,
-                                      params.selected_only, params.boundary,
-                                      params.saliency_scale, out, q,
-                                      [&](const MeshArrays &m, std::vector<Vec3> &o,
-                                          VertexQuantities &qq, detail::DriverSetup &setup) {
-                                        return detail::organicSmoothAsGiven(m, params, o, qq,
-                                                                            progress, &setup);
-                                      });
-                                });
+  return detail::measuredDriverRun(
+      mesh, params, out_points, quantities,
+      [&](const MeshArrays &m, std::vector<Vec3> &o, VertexQuantities &q,
+          detail::DriverSetup &setup) {
+        return detail::organicSmoothAsGiven(m, params, o, q, progress, &setup);
+      });
 }
 
 namespace detail {
