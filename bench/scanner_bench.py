@@ -143,21 +143,30 @@ def peer_script_arguments(doc, script):
     return args, cmd
 
 
-def run_with_peers(build, work, cases, quick, jobs, extra=None):
+def run_with_peers(build, work, cases, quick, jobs, extra=None, peers=None):
     """The cases' quality runs (ours in its three modes and with each of `extra`'s settings, label
     -> overrides, through meshlabserver; the peers as tasks_for lists them) under one Xvfb, `jobs`
-    at a time. Returns (results by case name, as collect() and the extra labels, machine info)."""
+    at a time. Returns (results by case name, as collect() and the extra labels, machine info).
+    `peers`: an earlier run's results of the same cases (its raw.json), whose peer scores are
+    taken as they are (they do not depend on our build): only ours runs."""
     extra = extra or {}
     runner = bench.Runner(pathlib.Path(build).resolve(), work)
     runner.start_xvfb()
     try:
         machine = bench.machine_info()
-        tasks = [t for c in cases for t in tasks_for(c, quick)]
+        tasks = [t for c in cases for t in tasks_for(c, quick)
+                 if peers is None or t[1] == "ours meshlabserver"]
         tasks += [(c, "ours meshlabserver", o) for c in cases for o in extra.values()]
         runner.prefetch(tasks, jobs)
         results = {}
         for c in cases:
-            r = collect(runner, c, quick)
+            if peers is not None:
+                r = {k: v for k, v in peers[c["name"]].items() if not k.startswith("ours")}
+                r.update({label: runner.quality(c, "ours meshlabserver", o)
+                          for label, o in OURS.items()})
+                r["noisy"] = runner.compare(c["noisy"], c["clean"])
+            else:
+                r = collect(runner, c, quick)
             for label, overrides in extra.items():
                 r[label] = runner.quality(c, "ours meshlabserver", overrides)
             results[c["name"]] = r

@@ -193,6 +193,8 @@ void printFigures(const Run &run, double seconds, int faces) {
               a.evidence.flat_share, a.evidence.confirmed_share, a.evidence.crease_pairs);
   std::printf(", \"tail\": %.4f, \"tail_factor\": %.4f", noise.tail,
               feature ? feature->tail_factor : organic->tail_factor);
+  std::printf(", \"amplitude\": %.4f, \"correlated_share\": %.3f", noise.amplitude,
+              noise.correlated_share);
   const Impulses &impulses = feature == &run.f   ? run.f.impulses
                              : organic == &run.o ? run.o.impulses
                                                  : run.a.impulses;
@@ -213,8 +215,10 @@ void printFigures(const Run &run, double seconds, int faces) {
     std::printf("]");
   }
   if (feature)
-    std::printf(", \"prepass_pairs\": %d, \"normal_iterations\": %d, \"vertex_iterations\": %d",
-                feature->prepass_pairs, feature->normal_iterations, feature->vertex_iterations);
+    std::printf(", \"prepass_pairs\": %d, \"normal_iterations\": %d, \"vertex_iterations\": %d, "
+                "\"heavy_factor\": %.3f",
+                feature->prepass_pairs, feature->normal_iterations, feature->vertex_iterations,
+                feature->heavy_factor);
   std::printf("}\n");
 }
 

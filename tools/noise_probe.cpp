@@ -1,7 +1,7 @@
 // noise_probe: the noise estimate of vcg_ext/analysis/noise_estimate.h for a list of meshes, one JSON line
 // per mesh (bench/studies/noise_estimate.py reads them).
 //
-//   noise_probe [--no-amplitude] <mesh> [<mesh> ...]
+//   noise_probe [--no-amplitude | --amplitude-always] <mesh> [<mesh> ...]
 #include "tool_mesh.h"
 
 #include <vcg_ext/analysis/noise_estimate.h>
@@ -19,6 +19,10 @@ int main(int argc, char **argv) {
   for (int a = 1; a < argc; ++a) {
     if (std::string(argv[a]) == "--no-amplitude") { // the estimate without the amplitude (timing)
       params.amplitude = false;
+      continue;
+    }
+    if (std::string(argv[a]) == "--amplitude-always") { // also where the mesh reads clean
+      params.amplitude_when_clean = true;
       continue;
     }
     tool_mesh::Mesh mesh;

@@ -6,6 +6,7 @@ the criteria: below every peer at its defaults, and the ratio to the best of eve
 (the oracle, chosen per case with the clean mesh). Writes bench/out/studies/HEAVY_NOISE.md.
 
     python3 bench/studies/heavy_noise.py [--build DIR] [--jobs 2] [--quick] [--all]
+                                         [--peers-from bench/out/heavy/raw.json]
 
 - Ours through the real meshlabserver: the default (automatic mode), Iterations 6 (twice the
   measured amount) and each mode forced (did the automatic choice take the better one?).
@@ -13,7 +14,9 @@ the criteria: below every peer at its defaults, and the ratio to the best of eve
   at its defaults and at the best of bench/sd_filter.py's sweep, as bench/scanner_bench.py runs them.
 - By default a subset (box, cylinder, stacked_blocks, bracket and the Bunny; every variant: 20
   cases, about an hour on two cores); --all: the whole set (44 cases); --quick: two cases, the
-  SD filter at its defaults only (for checking the harness).
+  SD filter at its defaults only (for checking the harness); --peers-from: the peers' scores of an
+  earlier run of the same cases (they do not depend on our build), only ours runs (minutes).
+- The pictures of README's real-scan section (docs/img/heavy_*.png, PICTURES).
 """
 import json
 import pathlib
@@ -101,23 +104,67 @@ def table(cases, results):
     return L
 
 
+# The pictures of README's real-scan section: (case, azimuth, elevation, up).
+PICTURES = [("box 4views_1.0", 35, 25, "z"), ("bracket 4views_0.6", 35, 25, "z"),
+            ("Bunny 4views_1.0", 0, 10, "y")]
+
+
+def pictures(cases, results):
+    """Flat-shaded renderings in one view: noisy, ours, the better of the SD filter's defaults and
+    best setting, clean (bench/scanner_bench.py's panels); into docs/img/heavy_*.png."""
+    import figures  # matplotlib: installed by bench/prepare.sh
+    import render
+    by_name = {c["name"]: c for c in cases}
+    for name, az, el, up in PICTURES:
+        case = by_name.get(name)
+        if case is None:
+            continue
+        r = results[name]
+        sd_label, sd = min(((f"SD filter ({r[scanner_bench.SD + ' best'].get('setting')})",
+                             r[scanner_bench.SD + " best"]),
+                            ("SD filter (defaults)", r[scanner_bench.SD + " default"])),
+                           key=lambda o: o[1].get("theta_deg", 1e9))
+        ours = r["ours automatic (default)"]
+        panels = [(f"noisy\nθ {fmt(r['noisy']['theta_deg'])}°", case["noisy"]),
+                  (f"ours (default)\nθ {fmt(ours['theta_deg'])}°", ours["path"]),
+                  (f"{sd_label}\nθ {fmt(sd['theta_deg'])}°", sd["path"]), ("clean\n ", case["clean"])]
+        file = REPO / "docs" / "img" / ("heavy_" + name.replace(" ", "_").replace(".", "") + ".png")
+        figures.panel_row(panels, render.view_rotation(az, el, up), file,
+                          f"Heavy depth-camera noise: {name}",
+                          frame_points=meshio.read_mesh(case["clean"])[0])
+
+
+def option(name):
+    """The value after `name` on the command line (removed from it), or None."""
+    if name not in sys.argv:
+        return None
+    i = sys.argv.index(name)
+    value = sys.argv[i + 1]
+    del sys.argv[i:i + 2]
+    return value
+
+
 def main():
     everything = "--all" in sys.argv
     if everything:
         sys.argv.remove("--all")
+    peers_from = option("--peers-from")
     args, cmd = scanner_bench.peer_script_arguments(__doc__, "bench/studies/heavy_noise.py")
     args.out = str(REPO / "bench" / "out" / "studies" / "HEAVY_NOISE.md")
-    cmd += " --all" if everything else ""
+    cmd += (" --all" if everything else "") + (f" --peers-from {peers_from}" if peers_from else "")
+    peers = json.loads(pathlib.Path(peers_from).read_text())["results"] if peers_from else None
     started = time.time()
     work = REPO / "bench" / "out" / ("heavy_quick" if args.quick else "heavy")
     work.mkdir(parents=True, exist_ok=True)
     cases = make_cases(work, args.quick, everything)
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     results, machine = scanner_bench.run_with_peers(args.build, work, cases, args.quick,
-                                                    args.jobs, STRONGER)
+                                                    args.jobs, STRONGER, peers)
     elapsed = time.time() - started
-    (work / "raw.json").write_text(json.dumps({"results": results, "machine": machine},
-                                              indent=1, default=str))
+    (work / ("raw_ours.json" if peers else "raw.json")).write_text(
+        json.dumps({"results": results, "machine": machine}, indent=1, default=str))
+    if not args.quick:
+        pictures(cases, results)
     lines = [f"Produced by `{cmd}` on {machine['date']}, commit {machine['commit']}, in "
              f"{elapsed / 60:.1f} min. Do not edit by hand: rerun the command.", "",
              "Noise: bench/scanner_noise.py's heavy set (make_heavy_cases).", ""]

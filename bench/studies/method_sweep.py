@@ -121,6 +121,11 @@ def cases(sets, build):
     return out
 
 
+# What the automatic mode read, kept beside each run's scores (tools/auto_params' figures).
+EVIDENCE_KEYS = ("flat_share", "confirmed_share", "level", "amplitude", "correlated_share",
+                 "heavy_factor", "impulse_share")
+
+
 def run_mode(build, case, mode, args, tag):
     d = OUT / "runs" / tag
     d.mkdir(parents=True, exist_ok=True)
@@ -141,11 +146,13 @@ def run_mode(build, case, mode, args, tag):
         s = noref.displacement(p0, p1, f0)
         s["spread"] = noref.median_dihedral_spread_deg(p1, f0)
     s.update(mode_ran=info["mode"], seconds=info["seconds"])
+    s.update({k: info[k] for k in EVIDENCE_KEYS if k in info})
     return s
 
 
-def measure(build, case, args, tag):
-    modes = ("feature", "organic", "auto") if case["group"] == "modechoice" else ("auto",)
+def measure(build, case, args, tag, all_modes=False):
+    modes = ("feature", "organic", "auto") if all_modes or case["group"] == "modechoice" \
+        else ("auto",)
     return case, {m: run_mode(build, case, m, args, tag) for m in modes}
 
 
@@ -184,6 +191,24 @@ def holdout_summary(results, base_tag):
                       f"{r['mode_ran']} {r['theta_deg']:.2f}")
 
 
+def choice_summary(results):
+    """The automatic choice against the better of the two modes (within 5 % θ), per set."""
+    groups = {}
+    for name, r in results.items():
+        if r["group"] != "modechoice" and "feature" in r and "theta_deg" in r["auto"]:
+            groups.setdefault(r["group"], []).append((name, r))
+    for group, rows in sorted(groups.items()):
+        misses = [(n, r) for n, r in rows if r["auto"]["theta_deg"] >
+                  1.05 * min(r["feature"]["theta_deg"], r["organic"]["theta_deg"])]
+        print(f"- choice within 5 % ({group}): {len(rows) - len(misses)} of {len(rows)}")
+        for n, r in misses:
+            x = r["auto"]
+            print(f"    {n}: chose {x['mode_ran']} {x['theta_deg']:.2f}, feature "
+                  f"{r['feature']['theta_deg']:.2f}, organic {r['organic']['theta_deg']:.2f} "
+                  f"(flat {x.get('flat_share', 0):.3f}, confirmed {x.get('confirmed_share', 0):.3f},"
+                  f" amplitude {x.get('amplitude', 0):.3f})")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--build", default=str(REPO / "build"))
@@ -192,6 +217,9 @@ def main():
     ap.add_argument("--tag", default="sweep")
     ap.add_argument("--base", help="an earlier run's tag to compare the modechoice θ with")
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--all-modes", action="store_true",
+                    help="run the feature and organic modes on every case too: the automatic "
+                         "choice within 5 %% of the better mode, per set")
     ap.add_argument("args", nargs="*", help="auto_params name=value (auto_params --list)")
     a = ap.parse_args()
     build = pathlib.Path(a.build).resolve()
@@ -201,7 +229,7 @@ def main():
     results, wins = {}, {"θ": [0, 0], "Ev": [0, 0], "light": [0, 0], "public": [0, 0]}
     print(f"# {a.tag}: auto_params {' '.join(a.args) or '(defaults)'}")
     with ThreadPoolExecutor(a.jobs) as ex:
-        for case, s in ex.map(lambda c: measure(build, c, a.args, a.tag), todo):
+        for case, s in ex.map(lambda c: measure(build, c, a.args, a.tag, a.all_modes), todo):
             results[case["name"]] = {"group": case["group"], **s}
             if case["group"] == "modechoice" or case["group"] in HOLDOUT_GROUPS:
                 continue
@@ -231,6 +259,8 @@ def main():
         if n:
             print(f"- {k}: {w} of {n}")
     holdout_summary(results, a.base)
+    if a.all_modes:
+        choice_summary(results)
     mc = {n: r for n, r in results.items() if r["group"] == "modechoice"}
     if mc:
         def regret(r):

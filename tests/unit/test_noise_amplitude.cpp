@@ -145,17 +145,25 @@ TEST(NoiseAmplitude, SameResultInAnyVertexOrderAndForAnyThreadCount) {
   EXPECT_EQ(one.band_energy, two.band_energy);
 }
 
-TEST(NoiseAmplitude, MeshesTooSmallForTheCoarseBandsAreNotRead) {
-  const MeshArrays small = test_meshes::icosphere(1.0, 4); // 2562 vertices
+TEST(NoiseAmplitude, SmallMeshesReadTheBandsTheyHoldAndTinyOnesNone) {
+  // 64 vertices per pair of the coarsest band, at least seven bands (up to 64 pairs).
+  EXPECT_EQ(amplitudeBandCount(2562), 0);
+  EXPECT_EQ(amplitudeBandCount(4096), 7);
+  EXPECT_EQ(amplitudeBandCount(6475), 7); // the Fandisk
+  EXPECT_EQ(amplitudeBandCount(8192), 8);
+  const MeshArrays coarse = test_meshes::icosphere(1.0, 4); // 2562 vertices
+  const double coarse_edge = test_meshes::meanEdge(coarse);
+  EXPECT_EQ(amplitudeOf(test_meshes::withCorrelatedNoise(coarse, 0.4 * coarse_edge, 2, 3)).amplitude,
+            0.0);
+  // 6144 vertices: seven bands; white and correlated noise read near their level, the clean
+  // torus as shape.
+  const MeshArrays small = torusLattice(64, 96);
   const double edge = test_meshes::meanEdge(small);
-  const MeshArrays noisy = test_meshes::withCorrelatedNoise(small, 0.4 * edge, 2, 3);
-  EXPECT_EQ(amplitudeOf(noisy).amplitude, 0.0);
-  NoiseAmplitudeParams all;
-  all.min_vertices = 0; // read anyway: the coarse bands see the whole sphere
-  const Rings rings = computeRings(int(noisy.points.size()), noisy.faces);
-  const double noisy_edge = edgeStatistics(noisy.points, rings).mean_edge_length;
-  const NoiseAmplitude forced = measureNoiseAmplitude(
-      detail::inNoiseFrame(noisy.points, rings, detail::noiseFrame(noisy.points, rings, noisy_edge)),
-      noisy.faces, rings, detail::vertexRoles(noisy, rings, noisy_edge), nullptr, all);
-  EXPECT_GT(forced.amplitude, 0.0);
+  EXPECT_LT(amplitudeOf(small).amplitude, 0.05);
+  for (int steps : {0, 2}) {
+    const NoiseAmplitude a =
+        amplitudeOf(test_meshes::withCorrelatedNoise(small, 0.4 * edge, steps, 3));
+    EXPECT_EQ(a.band_energy.size(), 7u);
+    EXPECT_NEAR(a.amplitude, 0.4, 0.08) << "steps " << steps;
+  }
 }

@@ -49,12 +49,26 @@ struct NoiseAmplitudeParams {
   std::vector<double> shape_growth = {2.5, 3.0}; // the shape term's growth per band
   double chebyshev_tolerance = 1e-3;                  // the coarse bands as series (taubin_chebyshev.h)
   int normal_pairs = 8; // the band displacements are read along the normals of this snapshot
-  // Meshes under this many vertices are not read: their coarse bands (a kernel of about eleven
-  // rings at 128 pairs) reach across the whole shape, whose energy there then reads as noise
-  // correlated over several rings (coarse held-out meshes of 1-3k vertices read 0.7-0.9 under
-  // noise of 0.3; docs/studies/noise-estimate.md). 64 vertices per pair of the coarsest band.
-  int min_vertices = 8192;
+  // A mesh reads the bands whose coarser edge has at least `vertices_per_pair` vertices per pair:
+  // coarser bands (a kernel of about eleven rings at 128 pairs) reach across the whole shape,
+  // whose energy there then reads as noise correlated over several rings (coarse held-out meshes
+  // of 1-3k vertices read 0.7-0.9 under noise of 0.3 with every band; docs/studies/
+  // noise-estimate.md). All eight bands from 8192 vertices, seven from 4096 (up to 64 pairs);
+  // none below: with six bands, coarse CAD and organic meshes of 2-3k vertices read their shape
+  // as noise of 0.6 (held-out rotor_small under scanner noise of 0.3).
+  int vertices_per_pair = 64;
+  int min_bands = 7;
 };
+
+// How many of p.band_pairs' bands a mesh of `vertices` vertices reads (NoiseAmplitudeParams::
+// vertices_per_pair): 0 when fewer than p.min_bands.
+inline int amplitudeBandCount(long vertices, const NoiseAmplitudeParams &p = {}) {
+  int bands = 0;
+  while (bands + 1 < int(p.band_pairs.size()) &&
+         long(p.band_pairs[bands + 1]) * p.vertices_per_pair <= vertices)
+    ++bands;
+  return bands >= p.min_bands ? bands : 0;
+}
 
 struct NoiseAmplitude {
   double amplitude = 0;          // rms along the normals, mean edge lengths
@@ -133,11 +147,12 @@ inline std::vector<double> coarseBandEnergies(const std::vector<Vec3> &snapshot,
                                               const SpatialTaubin &taubin,
                                               const std::vector<Vec3> &normals,
                                               const std::vector<std::uint8_t> &counted,
-                                              const NoiseAmplitudeParams &p) {
+                                              const NoiseAmplitudeParams &p, int last = -1) {
   std::vector<double> energy;
   std::vector<Vec3f> field(snapshot.size()), previous, scratch;
   for (size_t l = 0; l < snapshot.size(); ++l) field[l] = snapshot[l].cast<float>();
-  for (int b = first; b + 1 < int(p.band_pairs.size()); ++b) {
+  if (last < 0) last = int(p.band_pairs.size()) - 1;
+  for (int b = first; b < last; ++b) {
     const int pairs = p.band_pairs[b + 1] - p.band_pairs[b];
     previous = field;
     const std::vector<double> series =
@@ -198,6 +213,11 @@ inline const std::array<NoiseTemplate, 6> &noiseTemplates() {
   return table;
 }
 
+// The band that holds most of a template's energy.
+inline int peakBand(const NoiseTemplate &t) {
+  return int(std::max_element(t.energy.begin(), t.energy.end()) - t.energy.begin());
+}
+
 namespace detail {
 
 // min |A c - e|² over c >= 0 for a few columns (at most 5), by trying every set of free columns
@@ -237,9 +257,10 @@ inline double cleanEdgeUnits(double read, double edge_decorrelation) {
   return denominator > 0.25 ? read / std::sqrt(denominator) : 2.0 * read;
 }
 
-// The fit of the file comment on band energies of the default bands: energy_b ≈ σ_w² π_0,b +
-// σ_c² π_s,b + A g^(b - last) + F (white and correlated noise, shape, a floor), each band weighted
-// by 1 / energy_b (relative errors), for the best (s, g); the amplitude is the two noises' rms in
+// The fit of the file comment on band energies of the default bands (all eight, or the first
+// five to seven on a small mesh: amplitudeBandCount): energy_b ≈ σ_w² π_0,b + σ_c² π_s,b +
+// A g^(b - last) + F (white and correlated noise, shape, a floor), each band weighted by
+// 1 / energy_b (relative errors), for the best (s, g); the amplitude is the two noises' rms in
 // clean edge units. Real depth noise mixes a white part (quantisation, outliers) with its
 // correlated part: one template alone took the mixture for white noise of the finest band's level.
 inline NoiseAmplitude fitNoiseAmplitude(const std::vector<double> &energy,
@@ -247,13 +268,17 @@ inline NoiseAmplitude fitNoiseAmplitude(const std::vector<double> &energy,
   NoiseAmplitude out;
   out.band_energy = energy;
   const int bands = int(energy.size());
-  if (bands != 8) return out;
+  if (bands < 5 || bands > 8) return out;
   const NoiseTemplate &white = noiseTemplates()[0];
   double best = INFINITY;
   for (const NoiseTemplate &t : noiseTemplates()) {
     if (std::find(p.correlation_steps.begin(), p.correlation_steps.end(), t.steps) ==
         p.correlation_steps.end())
       continue;
+    // With fewer bands (a small mesh) a correlation whose energy peaks in the last bands read or
+    // beyond them cannot be told from the shape's rise: coarse organic meshes of 3-4k vertices
+    // read their shape as noise correlated over 10 rings, 0.65-0.75 under white noise of 0.3.
+    if (bands < 8 && peakBand(t) > bands - 2) continue;
     for (double g : p.shape_growth) {
       Eigen::MatrixXd A(bands, 4);
       Eigen::VectorXd e(bands);
@@ -292,7 +317,8 @@ inline NoiseAmplitude measureNoiseAmplitude(const std::vector<Vec3> &points,
                                             const std::vector<std::uint8_t> *counted = nullptr,
                                             const NoiseAmplitudeParams &p = {}) {
   const int n = int(points.size());
-  if (n == 0 || faces.empty() || n < p.min_vertices) return {};
+  const int bands = amplitudeBandCount(n, p);
+  if (n == 0 || faces.empty() || bands == 0) return {};
   const SpatialTaubin taubin(points, rings, roles.frozen, roles.boundary_neighbours,
                              /*given_order=*/true);
   std::vector<Vec3> snapshot = points, scratch;
@@ -303,7 +329,9 @@ inline NoiseAmplitude measureNoiseAmplitude(const std::vector<Vec3> &points,
   for (int v = 0; v < n; ++v)
     use[v] = !roles.frozen[v] && !rings.boundary[v] && rings.ring1Size(v) > 0 &&
              (!counted || (*counted)[v]);
-  return fitNoiseAmplitude(bandEnergiesAlongNormals(points, taubin, normals, use, p), p);
+  NoiseAmplitudeParams read = p;
+  read.band_pairs.resize(bands + 1);
+  return fitNoiseAmplitude(bandEnergiesAlongNormals(points, taubin, normals, use, read), p);
 }
 
 } // namespace vcg_ext

@@ -57,6 +57,9 @@ struct NoiseEstimateParams {
   // The amplitude (noise_amplitude.h) of a mesh that reads noisy: its finer bands from this
   // estimate's snapshots (band_pairs must be its first bands), the coarser ones after them.
   bool amplitude = true;
+  // Also on a mesh that reads clean (studies only: noise correlated over four rings and more
+  // reads clean by the pair's test; bench/studies/noise_truth.py --amplitude-always).
+  bool amplitude_when_clean = false;
   NoiseAmplitudeParams amplitude_bands;
 };
 
@@ -233,7 +236,8 @@ inline void readAmplitude(const std::vector<Vec3> &last, int bands, const Spatia
   for (size_t v = 0; v < counted.size(); ++v)
     counted[v] = interior[v] && normals[v].squaredNorm() != 0;
   const std::vector<double> coarse =
-      coarseBandEnergies(last, bands, taubin, normals, counted, params.amplitude_bands);
+      coarseBandEnergies(last, bands, taubin, normals, counted, params.amplitude_bands,
+                         amplitudeBandCount(long(interior.size()), params.amplitude_bands));
   energies.insert(energies.end(), coarse.begin(), coarse.end());
   const NoiseAmplitude a = fitNoiseAmplitude(energies, params.amplitude_bands);
   out.amplitude = a.amplitude;
@@ -292,8 +296,8 @@ inline NoiseEstimate measureNoise(const std::vector<Vec3> &points, const std::ve
   std::vector<Vec3f>().swap(probe_before);
   std::vector<Vec3> normals;
   std::vector<double> energies;
-  const bool amplitude = params.amplitude && out.noisy &&
-                         rings.vertex_count >= params.amplitude_bands.min_vertices &&
+  const bool amplitude = params.amplitude && (out.noisy || params.amplitude_when_clean) &&
+                         amplitudeBandCount(rings.vertex_count, params.amplitude_bands) > bands &&
                          params.amplitude_bands.band_pairs.size() > params.band_pairs.size() &&
                          std::equal(params.band_pairs.begin(), params.band_pairs.end(),
                                     params.amplitude_bands.band_pairs.begin());
