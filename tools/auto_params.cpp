@@ -83,6 +83,7 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   real("f.heavy_from", f.heavy.from);
   real("f.heavy_power", f.heavy.power);
   real("f.heavy_max", f.heavy.max_factor);
+  real("f.amplitude_need", f.heavy.need_weight);
   r["tail_power"] = [&p](double v) { p.feature.tails.power = p.organic.tails.power = v; };
   r["tail_max"] = [&p](double v) { p.feature.tails.max_factor = p.organic.tails.max_factor = v; };
   r["tail_from"] = [&p](double v) { p.feature.tails.level_from = p.organic.tails.level_from = v; };

@@ -163,8 +163,6 @@ def main():
     elapsed = time.time() - started
     (work / ("raw_ours.json" if peers else "raw.json")).write_text(
         json.dumps({"results": results, "machine": machine}, indent=1, default=str))
-    if not args.quick:
-        pictures(cases, results)
     lines = [f"Produced by `{cmd}` on {machine['date']}, commit {machine['commit']}, in "
              f"{elapsed / 60:.1f} min. Do not edit by hand: rerun the command.", "",
              "Noise: bench/scanner_noise.py's heavy set (make_heavy_cases).", ""]
@@ -172,6 +170,8 @@ def main():
     pathlib.Path(args.out).write_text("# Heavy scanner noise against the peers\n\n" +
                                       "\n".join(lines) + "\n")
     print("\n".join(lines))
+    if not args.quick:
+        pictures(cases, results)
 
 
 if __name__ == "__main__":

@@ -580,6 +580,22 @@ TEST(FeatureSmoothStages, OnePassMovesTheVerticesUnlessDeclinedOrCancelled) {
   EXPECT_GT(deviation(noisy.points, clean).theta_deg, 2 * deviation(current, clean).theta_deg);
 }
 
+// Noise whose finest band reads little but whose amplitude is a tenth of an edge or more (a redder
+// spectrum) gets the full need: the need reads the amplitude (amplitudeNeed).
+TEST(FeatureSmoothStages, TheNeedReadsTheAmplitudeBesideTheFinestBand) {
+  const MeshArrays noisy = noisySmallBox();
+  detail::DriverSetup setup = detail::driverSetup(noisy, false);
+  FeatureSmoothParams params;
+  setup.input_spread_deg = 10; // below clean_spread_deg: the spread asks for nothing
+  setup.noise.noisy = true;
+  setup.noise.level = 0.04;
+  setup.noise.spectrum.assign(4, 0.04);
+  setup.noise.amplitude = 0.15;
+  EXPECT_NEAR(detail::featurePassCounts(noisy, params, setup).roughness, 1.0, 1e-12);
+  params.heavy.need_weight = 0; // the finest band alone
+  EXPECT_NEAR(detail::featurePassCounts(noisy, params, setup).roughness, 0.4, 1e-12);
+}
+
 // Heavy noise (its amplitude past HeavyNoiseParams::from) multiplies the passes and the normal
 // filter iterations the first pass's check waits for; at the public benchmark's levels nothing
 // changes.

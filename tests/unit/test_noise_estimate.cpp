@@ -270,6 +270,21 @@ TEST(NoiseEstimateStages, ProbeFollowsThePositionInTheFrameNotTheIndex) {
   EXPECT_NEAR(sum2, 1.0, 0.05); // unit std per component
 }
 
+TEST(NoiseEstimate, AmplitudeNeedSaturatesAtATenthOfAnEdgeOnNoisyMeshesOnly) {
+  NoiseEstimate e;
+  e.amplitude = 0.05;
+  EXPECT_EQ(amplitudeNeed(e), 0.0); // reads clean
+  e.noisy = true;
+  EXPECT_NEAR(amplitudeNeed(e), 0.5, 1e-12);
+  e.amplitude = 0.14; // a red spectrum's amplitude; its finest band reads 0.04
+  EXPECT_EQ(amplitudeNeed(e), 1.0);
+  HeavyNoiseParams off;
+  off.need_weight = 0;
+  EXPECT_EQ(amplitudeNeed(e, off), 0.0);
+  e.amplitude = NAN;
+  EXPECT_EQ(amplitudeNeed(e), 0.0);
+}
+
 TEST(NoiseEstimate, HeavyNoiseFactorIsOneUpToItsAmplitudeThenAPowerOfItCapped) {
   NoiseEstimate e;
   EXPECT_EQ(heavyNoiseFactor(e), 1.0); // not read

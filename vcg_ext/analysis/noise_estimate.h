@@ -378,7 +378,22 @@ struct HeavyNoiseParams {
   double from = 0.35;    // amplitude (mean edge lengths) up to which the need of 1 suffices
   double power = 3.0;    // beyond it the factor is (amplitude / from)^power
   double max_factor = 4.0;
+  // The feature mode's need reads the amplitude times this beside the finest bands' level
+  // (amplitudeNeed; 0: not).
+  double need_weight = 1.0;
 };
+
+// The need (0-1, as measuredRoughness's level term: saturating at a tenth of an edge length) that
+// the amplitude asks for on a mesh that reads noisy: noise whose energy lies in coarser bands
+// (a depth camera's redder spectrum) leaves the finest band at 0.04-0.07 while its amplitude is
+// 0.14 and more, so the finest band alone asked for half the passes (heavy set, red cases; white
+// noise reads about the same in both). 0 where the amplitude was not read.
+inline double amplitudeNeed(const NoiseEstimate &noise, const HeavyNoiseParams &params = {}) {
+  if (!noise.noisy || !(params.need_weight > 0) || !(noise.amplitude > 0) ||
+      !std::isfinite(noise.amplitude))
+    return 0.0;
+  return std::min(1.0, params.need_weight * noise.amplitude / 0.1);
+}
 
 // The factor on the amount of smoothing for noise heavier than the public benchmark's: the need
 // (measuredRoughness) saturates at 1 from a tenth of an edge length, while noise of half an edge

@@ -197,6 +197,7 @@ inline FeaturePassCounts featurePassCounts(const MeshArrays &mesh, const Feature
   c.spread_deg = inputSpreadDeg(mesh, setup);
   c.roughness = measuredRoughness(setup.noise, c.spread_deg, params.clean_spread_deg,
                                   params.noisy_spread_deg, params.correlated_bands);
+  c.roughness = std::max(c.roughness, amplitudeNeed(setup.noise, params.heavy));
   // The factor scales the measured need, not the user's strength: a mesh measured as clean
   // (need 0) stays as it is.
   c.tail_factor = heavyTailFactor(setup.noise, params.tails);
