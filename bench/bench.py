@@ -622,9 +622,10 @@ def machine_info():
         pass
     commit = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"],
                             capture_output=True, text=True).stdout.strip()
+    # rstrip, not strip: a line reads " M path", and the paths start at its fourth character.
     dirty = subprocess.run(["git", "-C", str(REPO), "status", "--porcelain", "--untracked-files=no",
                             "--", "vcg_ext", "filter_saliency_bezier_smooth", "tools"],
-                           capture_output=True, text=True).stdout.strip()
+                           capture_output=True, text=True).stdout.rstrip()
     if commit and dirty:
         commit += " + uncommitted changes to " + ", ".join(
             sorted({l[3:].split("/")[0] for l in dirty.splitlines()}))
