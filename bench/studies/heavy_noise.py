@@ -105,8 +105,7 @@ def table(cases, results):
 
 
 # The pictures of README's real-scan section: (case, azimuth, elevation, up).
-PICTURES = [("box 4views_1.0", 35, 25, "z"), ("bracket 4views_0.6", 35, 25, "z"),
-            ("Bunny 4views_1.0", 0, 10, "y")]
+PICTURES = [("box 4views_1.0", 35, 25, "z"), ("Bunny 4views_1.0", 0, 10, "y")]
 
 
 def pictures(cases, results):
