@@ -315,12 +315,15 @@ def light_table(cases, results):
     return L
 
 
-def pictures(cases, results, img_dir):
+def pictures(cases, results, img_dir, which=None, prefix="scanner_", title="Scanner noise"):
+    """Per case of `which` ((name, azimuth, elevation, up); default PICTURES): noisy, ours, the
+    better of the SD filter's defaults and best setting, clean, flat-shaded in one view, into
+    img_dir / prefix + name + ".png"; returns the files made."""
     import figures  # matplotlib: installed by bench/prepare.sh
     import render
     made = []
     by_name = {c["name"]: c for c in cases}
-    for name, az, el, up in PICTURES:
+    for name, az, el, up in which or PICTURES:
         case = by_name.get(name)
         if case is None:
             continue
@@ -335,10 +338,10 @@ def pictures(cases, results, img_dir):
         if "path" in sd:
             panels.append((f"{sd_label}\nθ {fmt(sd['theta_deg'])}°", sd["path"]))
         panels.append(("clean\n ", case["clean"]))
-        file = "scanner_" + name.replace(" ", "_").replace(".", "") + ".png"
+        file = prefix + name.replace(" ", "_").replace(".", "") + ".png"
         clean_points = meshio.read_mesh(case["clean"])[0]
         figures.panel_row(panels, render.view_rotation(az, el, up), img_dir / file,
-                          f"Scanner noise: {name}", frame_points=clean_points)
+                          f"{title}: {name}", frame_points=clean_points)
         made.append(file)
     return made
 

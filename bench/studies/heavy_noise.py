@@ -27,7 +27,6 @@ import time
 sys.path[:0] = [str(pathlib.Path(__file__).resolve().parent),  # bench/studies and bench/
                 str(pathlib.Path(__file__).resolve().parents[1])]
 import bench  # noqa: E402
-import meshio  # noqa: E402
 import scanner_bench  # noqa: E402
 import scanner_noise  # noqa: E402
 from bench import fmt, finite  # noqa: E402
@@ -108,31 +107,6 @@ def table(cases, results):
 PICTURES = [("box 4views_1.0", 35, 25, "z"), ("Bunny 4views_1.0", 0, 10, "y")]
 
 
-def pictures(cases, results):
-    """Flat-shaded renderings in one view: noisy, ours, the better of the SD filter's defaults and
-    best setting, clean (bench/scanner_bench.py's panels); into docs/img/heavy_*.png."""
-    import figures  # matplotlib: installed by bench/prepare.sh
-    import render
-    by_name = {c["name"]: c for c in cases}
-    for name, az, el, up in PICTURES:
-        case = by_name.get(name)
-        if case is None:
-            continue
-        r = results[name]
-        sd_label, sd = min(((f"SD filter ({r[scanner_bench.SD + ' best'].get('setting')})",
-                             r[scanner_bench.SD + " best"]),
-                            ("SD filter (defaults)", r[scanner_bench.SD + " default"])),
-                           key=lambda o: o[1].get("theta_deg", 1e9))
-        ours = r["ours automatic (default)"]
-        panels = [(f"noisy\nθ {fmt(r['noisy']['theta_deg'])}°", case["noisy"]),
-                  (f"ours (default)\nθ {fmt(ours['theta_deg'])}°", ours["path"]),
-                  (f"{sd_label}\nθ {fmt(sd['theta_deg'])}°", sd["path"]), ("clean\n ", case["clean"])]
-        file = REPO / "docs" / "img" / ("heavy_" + name.replace(" ", "_").replace(".", "") + ".png")
-        figures.panel_row(panels, render.view_rotation(az, el, up), file,
-                          f"Heavy depth-camera noise: {name}",
-                          frame_points=meshio.read_mesh(case["clean"])[0])
-
-
 def option(name):
     """The value after `name` on the command line (removed from it), or None."""
     if name not in sys.argv:
@@ -170,7 +144,8 @@ def main():
                                       "\n".join(lines) + "\n")
     print("\n".join(lines))
     if not args.quick:
-        pictures(cases, results)
+        scanner_bench.pictures(cases, results, REPO / "docs" / "img", PICTURES, "heavy_",
+                               "Heavy depth-camera noise")
 
 
 if __name__ == "__main__":
