@@ -16,7 +16,7 @@ the criteria: below every peer at its defaults, and the ratio to the best of eve
   cases, about an hour on two cores); --all: the whole set (44 cases); --quick: two cases, the
   SD filter at its defaults only (for checking the harness); --peers-from: the peers' scores of an
   earlier run of the same cases (they do not depend on our build), only ours runs (minutes).
-- The pictures of README's real-scan section (docs/img/heavy_*.png, PICTURES).
+- The heavy-noise pictures of README and docs/HOW_WELL.md (docs/img/heavy_*.png, PICTURES).
 """
 import json
 import pathlib
@@ -103,7 +103,7 @@ def table(cases, results):
     return L
 
 
-# The pictures of README's real-scan section: (case, azimuth, elevation, up).
+# The heavy-noise pictures of README and docs/HOW_WELL.md: (case, azimuth, elevation, up).
 PICTURES = [("box 4views_1.0", 35, 25, "z"), ("Bunny 4views_1.0", 0, 10, "y")]
 
 
