@@ -257,8 +257,8 @@ inline double cleanEdgeUnits(double read, double edge_decorrelation) {
   return denominator > 0.25 ? read / std::sqrt(denominator) : 2.0 * read;
 }
 
-// The fit of the file comment on band energies of the default bands (all eight, or the first
-// five to seven on a small mesh: amplitudeBandCount): energy_b ≈ σ_w² π_0,b + σ_c² π_s,b +
+// The fit of the file comment on band energies of the default bands (all eight, or fewer on a
+// small mesh: amplitudeBandCount): energy_b ≈ σ_w² π_0,b + σ_c² π_s,b +
 // A g^(b - last) + F (white and correlated noise, shape, a floor), each band weighted by
 // 1 / energy_b (relative errors), for the best (s, g); the amplitude is the two noises' rms in
 // clean edge units. Real depth noise mixes a white part (quantisation, outliers) with its

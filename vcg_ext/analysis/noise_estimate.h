@@ -227,8 +227,10 @@ inline void spectrumAlongNormals(std::vector<std::vector<Vec3>> &snapshot,
 }
 
 // The amplitude (noise_amplitude.h) from the finer bands' energies and the coarser ones after
-// `last` (the snapshot `bands` pairs in), over the same vertices and normals as the spectrum.
-inline void readAmplitude(const std::vector<Vec3> &last, int bands, const SpatialTaubin &taubin,
+// `last` (the snapshot `bands` pairs in) up to band `read_bands` (amplitudeBandCount), over the
+// same vertices and normals as the spectrum.
+inline void readAmplitude(const std::vector<Vec3> &last, int bands, int read_bands,
+                          const SpatialTaubin &taubin,
                           const std::vector<Vec3> &normals, const std::vector<std::uint8_t> &interior,
                           const NoiseEstimateParams &params, std::vector<double> energies,
                           NoiseEstimate &out) {
@@ -237,7 +239,7 @@ inline void readAmplitude(const std::vector<Vec3> &last, int bands, const Spatia
     counted[v] = interior[v] && normals[v].squaredNorm() != 0;
   const std::vector<double> coarse =
       coarseBandEnergies(last, bands, taubin, normals, counted, params.amplitude_bands,
-                         amplitudeBandCount(long(interior.size()), params.amplitude_bands));
+                         read_bands);
   energies.insert(energies.end(), coarse.begin(), coarse.end());
   const NoiseAmplitude a = fitNoiseAmplitude(energies, params.amplitude_bands);
   out.amplitude = a.amplitude;
@@ -296,15 +298,17 @@ inline NoiseEstimate measureNoise(const std::vector<Vec3> &points, const std::ve
   std::vector<Vec3f>().swap(probe_before);
   std::vector<Vec3> normals;
   std::vector<double> energies;
+  const int read_bands = amplitudeBandCount(rings.vertex_count, params.amplitude_bands);
   const bool amplitude = params.amplitude && (out.noisy || params.amplitude_when_clean) &&
-                         amplitudeBandCount(rings.vertex_count, params.amplitude_bands) > bands &&
+                         read_bands > bands &&
                          params.amplitude_bands.band_pairs.size() > params.band_pairs.size() &&
                          std::equal(params.band_pairs.begin(), params.band_pairs.end(),
                                     params.amplitude_bands.band_pairs.begin());
   spectrumAlongNormals(snapshot, faces, rings, interior, probe_median, out, normals,
                        amplitude ? &energies : nullptr);
-  if (amplitude) readAmplitude(snapshot[bands], bands, taubin, normals, interior, params, energies,
-                               out);
+  if (amplitude)
+    readAmplitude(snapshot[bands], bands, read_bands, taubin, normals, interior, params, energies,
+                  out);
   return out;
 }
 

@@ -58,8 +58,6 @@ auto withImpulsesRepaired(const MeshArrays &mesh, const ImpulseParams &params, d
   if (report.cancelled) return report;
   if (out_points.size() != mesh.points.size()) {
     out_points = repaired.points;
-    if (setup.rings.vertex_count != int(mesh.points.size()))
-      setup.rings = computeRings(int(mesh.points.size()), mesh.faces, false);
     describeResult(mesh.points, out_points, mesh.faces, setup.rings,
                    saliency_scale * setup.stats.bbox_diagonal, quantities);
   } else {
