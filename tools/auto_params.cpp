@@ -80,6 +80,9 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   integer("o.fold_rounds", o.folds.max_rounds);
   real("o.fold_min_tail", o.fold_min_tail);
   real("o.fold_min_level", o.fold_min_level);
+  real("o.heavy_from", o.heavy.from);
+  real("o.heavy_power", o.heavy.power);
+  real("o.heavy_max", o.heavy.max_factor);
   real("f.heavy_from", f.heavy.from);
   real("f.heavy_power", f.heavy.power);
   real("f.heavy_max", f.heavy.max_factor);
@@ -208,7 +211,8 @@ void printFigures(const Run &run, double seconds, int faces) {
   if (organic) {
     std::printf(", \"fine_snr\": %.3f, \"slope\": %.2f, \"coarse_snr\": %.2f",
                 organic->bands.fine_snr, organic->bands.shape_slope, organic->bands.coarse_snr);
-    std::printf(", \"fold_moves\": %ld", organic->fold_moves);
+    std::printf(", \"fold_moves\": %ld, \"heavy_factor\": %.3f", organic->fold_moves,
+                organic->heavy_factor);
     std::printf(", \"noise_edges\": %.4f, \"alpha\": %.3f, \"gains\": [",
                 organic->bands.noise_edges, organic->bands.alpha);
     for (size_t b = 0; b < organic->bands.gains.size(); ++b)

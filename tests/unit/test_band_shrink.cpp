@@ -687,14 +687,13 @@ TEST(OrganicSmoothStages, BandParamsFollowTheAmountAndTheStrength) {
   OrganicSmoothParams params;
   NoiseEstimate noise;
   BandShrinkParams b = params.bands;
-  detail::organicBandParams(params, noise, 0.5, b);
+  detail::organicBandParams(params, noise, 0.5, params.strength, b);
   EXPECT_DOUBLE_EQ(b.noise_scale, 0.5 * params.bands.noise_scale);
   EXPECT_DOUBLE_EQ(b.min_noise_edges, 0.0);
   EXPECT_EQ(b.band_pairs, params.bands.band_pairs);
   EXPECT_TRUE(b.given_order);
-  params.strength = 3.0;
   b = params.bands;
-  detail::organicBandParams(params, noise, 1.0, b);
+  detail::organicBandParams(params, noise, 1.0, 3.0, b);
   EXPECT_DOUBLE_EQ(b.min_noise_edges, 0.2);
   EXPECT_EQ(b.band_pairs.size(), params.bands.band_pairs.size() + 2); // 256 and 512 pairs
 }
@@ -773,6 +772,38 @@ TEST(OrganicSmoothStages, AmountIsTheMeasuredNeedWithTheUsersStrength) {
     EXPECT_GE(report.tail_factor, 1.0);
     EXPECT_DOUBLE_EQ(report.amount, report.tail_factor + (strength - 1));
   }
+}
+
+// Heavy noise (amplitude past HeavyNoiseParams::from) multiplies the strength the bands run with,
+// only where noise was measured; at the public benchmark's levels nothing changes.
+TEST(OrganicSmoothStages, HeavyNoiseMultipliesTheStrengthWhereNoiseWasMeasured) {
+  const MeshArrays clean = test_meshes::icosphere(1.0, 4);
+  MeshArrays noisy = clean;
+  test_meshes::addNoise(noisy, 0.25 * meanEdge(clean), 6);
+  OrganicSmoothParams params;
+  detail::DriverSetup setup = detail::driverSetup(noisy, false);
+  OrganicSmoothReport report;
+  setup.noise.amplitude = 0.3; // below `from`: as measured
+  detail::organicAmount(noisy, setup, params, report);
+  EXPECT_EQ(report.heavy_factor, 1.0);
+  EXPECT_EQ(report.strength, 1.0);
+  const double plain = report.amount;
+  setup.noise.amplitude = 0.49; // (0.49 / 0.35)^3 = 2.744
+  detail::organicAmount(noisy, setup, params, report);
+  EXPECT_NEAR(report.heavy_factor, 2.744, 1e-9);
+  EXPECT_NEAR(report.strength, 2.744, 1e-9);
+  EXPECT_NEAR(report.amount, plain + 1.744, 1e-9); // strengthen(need, 2.744)
+  BandShrinkParams b = params.bands;
+  detail::organicBandParams(params, setup.noise, report.amount, report.strength, b);
+  EXPECT_EQ(b.band_pairs.size(), params.bands.band_pairs.size() + 2); // 256 and 512 pairs
+  setup.noise.amplitude = 0.7; // capped at max_factor
+  detail::organicAmount(noisy, setup, params, report);
+  EXPECT_EQ(report.heavy_factor, 4.0);
+  detail::DriverSetup clean_setup = detail::driverSetup(clean, false);
+  clean_setup.noise.amplitude = 0.7; // a clean reading never takes the factor
+  detail::organicAmount(clean, clean_setup, params, report);
+  EXPECT_EQ(report.heavy_factor, 1.0);
+  EXPECT_EQ(report.amount, 0.0);
 }
 
 TEST(OrganicSmoothStages, PatchUpdatesGoTheMeasuredStepAndStopWhenCancelled) {

@@ -402,7 +402,8 @@ inline double amplitudeNeed(const NoiseEstimate &noise, const HeavyNoiseParams &
 // The factor on the amount of smoothing for noise heavier than the public benchmark's: the need
 // (measuredRoughness) saturates at 1 from a tenth of an edge length, while noise of half an edge
 // length and more, the level of a raw depth scan, asks the feature mode for several times its
-// passes (docs/studies/noise-estimate.md). 1 where the amplitude was not read.
+// passes and the organic mode for several times its strength (docs/studies/noise-estimate.md).
+// 1 where the amplitude was not read.
 inline double heavyNoiseFactor(const NoiseEstimate &noise, const HeavyNoiseParams &params = {}) {
   if (!(params.from > 0) || !(noise.amplitude > params.from) || !std::isfinite(noise.amplitude))
     return 1.0;
