@@ -80,9 +80,11 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   integer("o.fold_rounds", o.folds.max_rounds);
   real("o.fold_min_tail", o.fold_min_tail);
   real("o.fold_min_level", o.fold_min_level);
+  real("o.heavy_share_power", o.heavy_share_power);
   real("o.heavy_from", o.heavy.from);
   real("o.heavy_power", o.heavy.power);
   real("o.heavy_max", o.heavy.max_factor);
+  real("flat_share_factor_power", p.flat_share_factor_power);
   real("f.heavy_from", f.heavy.from);
   real("f.heavy_power", f.heavy.power);
   real("f.heavy_max", f.heavy.max_factor);

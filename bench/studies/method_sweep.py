@@ -21,6 +21,8 @@ sets the scanner-noise work is judged on, fast and in-process, for choosing and 
   holdout-scanner), bench/studies/light_holdout.py's 36 light-noise cases (holdout-light) and
   bench/studies/alpha_choice.py's 81 white-noise cases at 0.1-0.3 (holdout-white); summarised per group,
   against --base when given (the cases that moved by more than 1 %).
+- heavywhite: add_noise 0.6 / 1.0 in random directions on the Bunny, armadillo, lion head, camel,
+  Fandisk and Block (white noise as heavy as the heavy set's correlated noise).
 - --peers: a bench/scanner_bench.py raw.json whose peer scores (MeshLab's filters, the SD filter,
   Taubin ×10) the rows are compared with (peers do not depend on our build).
 - --base TAG: compare the modechoice θ with an earlier run's (bench/out/sweep/TAG.json).
@@ -52,6 +54,11 @@ PEERS = ["Laplacian", "HC Laplacian", "Taubin", "TwoStep"]
 PUBLIC = ["Fandisk0.3", "Block0.4", "SharpSphere0.3", "Twelve0.5Impulsive", "Bunny0.2"]
 LIGHT = [("Bunny", "bench", "Bunny0.2"), ("cow", "paper", "cow"), ("Fandisk", "bench", "Fandisk0.3"),
          ("camel", "cgal", "camel")]
+# Heavy white noise (random directions) on organic and CAD meshes: the heavy set's noise is
+# correlated; the heavy-noise rules must hold on white noise as strong.
+HEAVY_WHITE = [("Bunny", "bench", "Bunny0.2"), ("armadillo", "cgal", "armadillo"),
+               ("lion-head", "cgal", "lion-head"), ("camel", "cgal", "camel"),
+               ("Fandisk", "bench", "Fandisk0.3"), ("Block", "bench", "Block0.4")]
 CLEAN_CGAL = ["armadillo", "lion-head", "elephant-with-holes", "three_peaks", "camel", "elk", "dino",
               "fandisk_large", "anchor_dense", "cube-meshed", "turbine", "mech-holes-shark"]
 REAL = ["angel", "rabbit", "iron"]
@@ -79,6 +86,15 @@ def cases(sets, build):
                     subprocess.run([str(build / "tools" / "add_noise"), str(clean), str(noisy),
                                     str(k), "random", "20090601"], check=True, capture_output=True)
                 out.append(dict(name=f"{label} r{k}", noisy=noisy, clean=clean, group="light"))
+    if "heavywhite" in sets:
+        for label, kind, name in HEAVY_WHITE:
+            clean, _ = scanner_noise.clean_mesh(kind, name, made)
+            for k in (0.6, 1.0):
+                noisy = made / f"{label}_r{k}.ply"
+                if not noisy.exists():
+                    subprocess.run([str(build / "tools" / "add_noise"), str(clean), str(noisy),
+                                    str(k), "random", "20090601"], check=True, capture_output=True)
+                out.append(dict(name=f"{label} r{k}", noisy=noisy, clean=clean, group="heavy-white"))
     if "public" in sets:
         for c in PUBLIC:
             out.append(dict(name=c, noisy=SHARED / "benchmark" / c / "noisy.ply",

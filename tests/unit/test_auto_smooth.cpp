@@ -285,6 +285,24 @@ TEST(AutoSmoothStages, SharpFeaturesByEitherShareAgainstItsThresholdAndMargin) {
   EXPECT_TRUE(detail::hasSharpFeatures(e, params, 0.0, -0.05));
 }
 
+// After a check delayed by heavy noise the flat share's threshold is the plain one times the delay
+// factor to flat_share_factor_power: organic shapes read flatter after more filter iterations.
+TEST(AutoSmoothStages, FlatShareThresholdGrowsWithTheCheckDelay) {
+  AutoSmoothParams params; // 0.235, power 0.3
+  SharpFeatureEvidence e;
+  e.flat_share = 0.28, e.confirmed_share = 0.6; // an organic mesh under white noise of 1 edge
+  EXPECT_TRUE(detail::hasSharpFeatures(e, params));               // no delay: 0.235
+  EXPECT_FALSE(detail::hasSharpFeatures(e, params, 0, 0, 3.0));   // 0.235 * 3^0.3 = 0.327
+  e.flat_share = 0.35;                                            // a CAD part there
+  EXPECT_TRUE(detail::hasSharpFeatures(e, params, 0, 0, 3.0));
+  EXPECT_FALSE(detail::hasSharpFeatures(e, params, 0, 0, 4.0));   // 0.235 * 4^0.3 = 0.357
+  e.flat_share = 0.236;
+  EXPECT_TRUE(detail::hasSharpFeatures(e, params, 0, 0, 0.5));    // a factor below 1 counts as 1
+  params.flat_share_factor_power = 0;                              // off: the plain threshold
+  e.flat_share = 0.28;
+  EXPECT_TRUE(detail::hasSharpFeatures(e, params, 0, 0, 3.0));
+}
+
 // The crease-confirming copy: the pre-pass's own positions when it ran the reference's pairs,
 // else that many Taubin pairs of the input.
 TEST(AutoSmoothStages, ReferenceNormalsAreThePrepassWhenItRanTheSamePairs) {

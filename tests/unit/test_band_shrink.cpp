@@ -775,7 +775,8 @@ TEST(OrganicSmoothStages, AmountIsTheMeasuredNeedWithTheUsersStrength) {
 }
 
 // Heavy noise (amplitude past HeavyNoiseParams::from) multiplies the strength the bands run with,
-// only where noise was measured; at the public benchmark's levels nothing changes.
+// as far as it is correlated, only where noise was measured; at the public benchmark's levels
+// nothing changes.
 TEST(OrganicSmoothStages, HeavyNoiseMultipliesTheStrengthWhereNoiseWasMeasured) {
   const MeshArrays clean = test_meshes::icosphere(1.0, 4);
   MeshArrays noisy = clean;
@@ -789,6 +790,13 @@ TEST(OrganicSmoothStages, HeavyNoiseMultipliesTheStrengthWhereNoiseWasMeasured) 
   EXPECT_EQ(report.strength, 1.0);
   const double plain = report.amount;
   setup.noise.amplitude = 0.49; // (0.49 / 0.35)^3 = 2.744
+  setup.noise.correlated_share = 0; // white: the shrinkage reads it itself
+  detail::organicAmount(noisy, setup, params, report);
+  EXPECT_EQ(report.heavy_factor, 1.0);
+  setup.noise.correlated_share = 0.5; // half correlated: 2.744^0.5
+  detail::organicAmount(noisy, setup, params, report);
+  EXPECT_NEAR(report.heavy_factor, std::sqrt(2.744), 1e-9);
+  setup.noise.correlated_share = 1;
   detail::organicAmount(noisy, setup, params, report);
   EXPECT_NEAR(report.heavy_factor, 2.744, 1e-9);
   EXPECT_NEAR(report.strength, 2.744, 1e-9);

@@ -30,6 +30,13 @@ struct AutoSmoothParams {
   // each mode wins, on 151 noisy meshes; not held out, and the margins are thin
   // (docs/studies/mode-choice.md).
   double feature_flat_share = 0.235, feature_confirmed_share = 0.785;
+  // Heavy noise makes the feature mode's first pass wait heavyNoiseFactor times the filter
+  // iterations before the evidence is read, and more iterations flatten organic shapes too: the
+  // flat share's threshold grows as that factor to this power. Organic meshes under white noise of
+  // one edge length read 0.245-0.28 at factors 2.7-3.1, CAD parts 0.35 and more; any power from
+  // 0.16 to 0.34 tells them apart, 0.3 also the Bunny and the armadillo under the heavy set's
+  // 4-view noise (0.32-0.33 at factors 3.7-4; docs/studies/mode-choice.md).
+  double flat_share_factor_power = 0.3;
   // Large meshes: the evidence is first taken on windows of the mesh (evidence_windows.h); when
   // its shares are clear of their thresholds, by at least `window_margin` and `window_errors`
   // standard errors of the sample, the choice is made on it and only the chosen mode runs, else
@@ -56,10 +63,14 @@ struct AutoSmoothReport {
 namespace detail {
 
 // Whether evidence `e` says the mesh has sharp features (AutoSmoothParams' thresholds), each share
-// measured against its threshold plus a margin (negative: minus).
+// measured against its threshold plus a margin (negative: minus); `check_factor`: the heavy-noise
+// factor the first pass's check waited by (FeaturePassCounts::checkIterations).
 inline bool hasSharpFeatures(const SharpFeatureEvidence &e, const AutoSmoothParams &params,
-                             double flat_margin = 0, double confirmed_margin = 0) {
-  return e.flat_share >= params.feature_flat_share + flat_margin ||
+                             double flat_margin = 0, double confirmed_margin = 0,
+                             double check_factor = 1) {
+  const double flat = params.feature_flat_share *
+                      std::pow(std::max(1.0, check_factor), params.flat_share_factor_power);
+  return e.flat_share >= flat + flat_margin ||
          e.confirmed_share >= params.feature_confirmed_share + confirmed_margin;
 }
 
@@ -86,8 +97,9 @@ inline bool decideOnWindows(const MeshArrays &mesh, const AutoSmoothParams &para
   const double flat_margin = std::max(params.window_margin, params.window_errors * w.flat_error),
                confirmed_margin =
                    std::max(params.window_margin, params.window_errors * w.confirmed_error);
-  const bool feature = hasSharpFeatures(e, params, flat_margin, confirmed_margin);
-  const bool organic = !hasSharpFeatures(e, params, -flat_margin, -confirmed_margin);
+  const bool feature = hasSharpFeatures(e, params, flat_margin, confirmed_margin, counts.heavy_factor);
+  const bool organic =
+      !hasSharpFeatures(e, params, -flat_margin, -confirmed_margin, counts.heavy_factor);
   if (!feature && !organic) return false;
   report.decided = report.windowed = true;
   report.chose_feature = feature;
@@ -126,7 +138,8 @@ inline bool decideOnFirstPass(const MeshArrays &mesh, const AutoSmoothParams &pa
                                        params.flat_deg);
   report.seconds_reference = secondsSince(start);
   report.decided = true;
-  report.chose_feature = hasSharpFeatures(report.evidence, params);
+  report.chose_feature = hasSharpFeatures(report.evidence, params, 0, 0,
+                                         heavyNoiseFactor(setup.noise, params.feature.heavy));
   return report.chose_feature;
 }
 
