@@ -51,9 +51,10 @@ CAD_SUBDIVIDED = [("anchor", 2), ("joint", 2), ("part", 2), ("oblong", 2), ("dra
                   ("spool", 2), ("cube", 5), ("star", 4)]
 # The automatic mode's log line (vcg_ext/methods/automatic/auto_smooth.h): "Automatic (sharp features: 0.285 of the
 # edges flat and 0.560 of the creases confirmed after guided filtering) -> Feature-preserving: ..."
-# (on large meshes "of face pairs N edges apart flat", with "± error" on windows).
+# (on large meshes "of face pairs N edges apart flat", with "± error" on windows; under heavy noise
+# "flat (0.327 needed: the check waited x 3.00 for heavy noise) and").
 EVIDENCE = re.compile(r"([0-9.]+)(?: ± [0-9.]+)? of (?:the edges|face pairs \d+ edges apart) flat "
-                      r"and ([0-9.]+)(?: ± [0-9.]+)? of the creases confirmed")
+                      r"(?:\([^)]*\) )?and ([0-9.]+)(?: ± [0-9.]+)? of the creases confirmed")
 
 
 def run(cmd):

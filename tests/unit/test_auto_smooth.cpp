@@ -370,6 +370,11 @@ TEST(AutoSmoothStages, LogSaysWhyAndHowLongTheDecisionTook) {
   r.seconds_setup = 0.25, r.seconds_reference = 0.125;
   EXPECT_EQ(detail::evidencePhrase(r, 1000),
             "0.300 of the edges flat and 0.900 of the creases confirmed after guided filtering");
+  r.check_factor = 3.0; // heavy noise: the flat share's threshold 0.235 * 3^0.3
+  EXPECT_EQ(detail::evidencePhrase(r, 1000),
+            "0.300 of the edges flat (0.327 needed: the check waited x 3.00 for heavy noise) and "
+            "0.900 of the creases confirmed after guided filtering");
+  r.check_factor = 1.0;
   r.chose_feature = true;
   EXPECT_EQ(detail::decisionTimeLine(r),
             "Time of the decision: shared topology 0.250 s, Taubin copy and evidence 0.125 s.");

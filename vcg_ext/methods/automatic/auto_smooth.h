@@ -57,6 +57,7 @@ struct AutoSmoothReport {
   long window_faces = 0;        // the faces the windows held
   double flat_error = 0, confirmed_error = 0; // the windows' standard errors of the shares
   double seconds_windows = 0;   // the windows' evidence (also when it was not clear enough)
+  double check_factor = 1;      // the heavy-noise factor the first pass's check waited by
   Impulses impulses;            // read, and put back first (impulse_repair.h)
 };
 
@@ -65,12 +66,15 @@ namespace detail {
 // Whether evidence `e` says the mesh has sharp features (AutoSmoothParams' thresholds), each share
 // measured against its threshold plus a margin (negative: minus); `check_factor`: the heavy-noise
 // factor the first pass's check waited by (FeaturePassCounts::checkIterations).
+inline double flatShareThreshold(const AutoSmoothParams &params, double check_factor) {
+  return params.feature_flat_share *
+         std::pow(std::max(1.0, check_factor), params.flat_share_factor_power);
+}
+
 inline bool hasSharpFeatures(const SharpFeatureEvidence &e, const AutoSmoothParams &params,
                              double flat_margin = 0, double confirmed_margin = 0,
                              double check_factor = 1) {
-  const double flat = params.feature_flat_share *
-                      std::pow(std::max(1.0, check_factor), params.flat_share_factor_power);
-  return e.flat_share >= flat + flat_margin ||
+  return e.flat_share >= flatShareThreshold(params, check_factor) + flat_margin ||
          e.confirmed_share >= params.feature_confirmed_share + confirmed_margin;
 }
 
@@ -97,12 +101,13 @@ inline bool decideOnWindows(const MeshArrays &mesh, const AutoSmoothParams &para
   const double flat_margin = std::max(params.window_margin, params.window_errors * w.flat_error),
                confirmed_margin =
                    std::max(params.window_margin, params.window_errors * w.confirmed_error);
-  const bool feature = hasSharpFeatures(e, params, flat_margin, confirmed_margin, counts.heavy_factor);
-  const bool organic =
-      !hasSharpFeatures(e, params, -flat_margin, -confirmed_margin, counts.heavy_factor);
+  const double f = counts.heavy_factor;
+  const bool feature = hasSharpFeatures(e, params, flat_margin, confirmed_margin, f);
+  const bool organic = !hasSharpFeatures(e, params, -flat_margin, -confirmed_margin, f);
   if (!feature && !organic) return false;
   report.decided = report.windowed = true;
   report.chose_feature = feature;
+  report.check_factor = f;
   report.evidence = e;
   report.window_faces = w.window_faces;
   report.flat_error = w.flat_error;
@@ -138,8 +143,8 @@ inline bool decideOnFirstPass(const MeshArrays &mesh, const AutoSmoothParams &pa
                                        params.flat_deg);
   report.seconds_reference = secondsSince(start);
   report.decided = true;
-  report.chose_feature = hasSharpFeatures(report.evidence, params, 0, 0,
-                                         heavyNoiseFactor(setup.noise, params.feature.heavy));
+  report.check_factor = heavyNoiseFactor(setup.noise, params.feature.heavy);
+  report.chose_feature = hasSharpFeatures(report.evidence, params, 0, 0, report.check_factor);
   return report.chose_feature;
 }
 
@@ -231,8 +236,10 @@ inline AutoSmoothReport autoSmoothMesh(const MeshArrays &mesh, const AutoSmoothP
 namespace detail {
 
 // Why the automatic mode chose as it did, for its log line: the two shares (on windows with their
-// standard errors and how much of the mesh the windows held).
-inline std::string evidencePhrase(const AutoSmoothReport &r, size_t faces) {
+// standard errors and how much of the mesh the windows held), and the flat share's threshold
+// when heavy noise raised it (flatShareThreshold).
+inline std::string evidencePhrase(const AutoSmoothReport &r, size_t faces,
+                                  const AutoSmoothParams &params = {}) {
   const std::string flat_what =
       r.evidence.flat_stride > 1
           ? formatLine("face pairs %.0f edges apart", double(r.evidence.flat_stride))
@@ -242,9 +249,17 @@ inline std::string evidencePhrase(const AutoSmoothReport &r, size_t faces) {
       r.windowed ? formatLine(", on windows holding %.0f %% of the faces",
                               100.0 * double(r.window_faces) / double(faces))
                  : std::string();
-  return formatLine("%.3f%s of %s flat and %.3f%s of the creases confirmed after guided filtering%s",
+  const double threshold = flatShareThreshold(params, r.check_factor);
+  const std::string raised =
+      threshold > params.feature_flat_share
+          ? formatLine(" (%.3f needed: the check waited x %.2f for heavy noise)", threshold,
+                       r.check_factor)
+          : std::string();
+  return formatLine("%.3f%s of %s flat%s and %.3f%s of the creases confirmed after guided "
+                    "filtering%s",
                     r.evidence.flat_share, error(r.flat_error).c_str(), flat_what.c_str(),
-                    r.evidence.confirmed_share, error(r.confirmed_error).c_str(), sample.c_str());
+                    raised.c_str(), r.evidence.confirmed_share, error(r.confirmed_error).c_str(),
+                    sample.c_str());
 }
 
 // The decision's own time: on windows, the windows' evidence; on the whole mesh, the Taubin copy
@@ -290,7 +305,7 @@ inline MethodRun automaticMethod(const MeshArrays &mesh, const MethodParams &p,
     run.details = detail::featureDetails(r.feature);
     return run;
   }
-  const std::string why = detail::evidencePhrase(r, mesh.faces.size());
+  const std::string why = detail::evidencePhrase(r, mesh.faces.size(), params);
   if (r.chose_feature) {
     run = detail::measuredRun(r.feature, "feature-preserving", 3, quantities); // (methods.h)
     run.summary = "Automatic (sharp features: " + why + ") -> " +
