@@ -64,6 +64,20 @@ CLEAN_CGAL = ["armadillo", "lion-head", "elephant-with-holes", "three_peaks", "c
 REAL = ["angel", "rabbit", "iron"]
 
 
+def random_noise_cases(meshes, levels, group, build, made):
+    """tools/add_noise at each level in random directions (seeded) on each (label, kind, name)."""
+    out = []
+    for label, kind, name in meshes:
+        clean, _ = scanner_noise.clean_mesh(kind, name, made)
+        for k in levels:
+            noisy = made / f"{label}_r{k}.ply"
+            if not noisy.exists():
+                subprocess.run([str(build / "tools" / "add_noise"), str(clean), str(noisy),
+                                str(k), "random", "20090601"], check=True, capture_output=True)
+            out.append(dict(name=f"{label} r{k}", noisy=noisy, clean=clean, group=group))
+    return out
+
+
 def cases(sets, build):
     made = OUT / "cases"
     out = []
@@ -78,23 +92,9 @@ def cases(sets, build):
         for c in impulsive_noise.make_cases(made / "impulsive", False):
             out.append(dict(name=c["name"], noisy=c["noisy"], clean=c["clean"], group="impulsive"))
     if "light" in sets:
-        for label, kind, name in LIGHT:
-            clean, _ = scanner_noise.clean_mesh(kind, name, made)
-            for k in (0.05, 0.1):
-                noisy = made / f"{label}_r{k}.ply"
-                if not noisy.exists():
-                    subprocess.run([str(build / "tools" / "add_noise"), str(clean), str(noisy),
-                                    str(k), "random", "20090601"], check=True, capture_output=True)
-                out.append(dict(name=f"{label} r{k}", noisy=noisy, clean=clean, group="light"))
+        out += random_noise_cases(LIGHT, (0.05, 0.1), "light", build, made)
     if "heavywhite" in sets:
-        for label, kind, name in HEAVY_WHITE:
-            clean, _ = scanner_noise.clean_mesh(kind, name, made)
-            for k in (0.6, 1.0):
-                noisy = made / f"{label}_r{k}.ply"
-                if not noisy.exists():
-                    subprocess.run([str(build / "tools" / "add_noise"), str(clean), str(noisy),
-                                    str(k), "random", "20090601"], check=True, capture_output=True)
-                out.append(dict(name=f"{label} r{k}", noisy=noisy, clean=clean, group="heavy-white"))
+        out += random_noise_cases(HEAVY_WHITE, (0.6, 1.0), "heavy-white", build, made)
     if "public" in sets:
         for c in PUBLIC:
             out.append(dict(name=c, noisy=SHARED / "benchmark" / c / "noisy.ply",
