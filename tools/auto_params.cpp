@@ -89,6 +89,9 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   real("f.heavy_power", f.heavy.power);
   real("f.heavy_max", f.heavy.max_factor);
   real("f.amplitude_need", f.heavy.need_weight);
+  real("f.correlated_extra", f.correlated.extra);
+  real("f.correlated_from", f.correlated.share_from);
+  real("f.correlated_full", f.correlated.share_full);
   r["tail_power"] = [&p](double v) { p.feature.tails.power = p.organic.tails.power = v; };
   r["tail_max"] = [&p](double v) { p.feature.tails.max_factor = p.organic.tails.max_factor = v; };
   r["tail_from"] = [&p](double v) { p.feature.tails.level_from = p.organic.tails.level_from = v; };
@@ -223,9 +226,9 @@ void printFigures(const Run &run, double seconds, int faces) {
   }
   if (feature)
     std::printf(", \"prepass_pairs\": %d, \"normal_iterations\": %d, \"vertex_iterations\": %d, "
-                "\"heavy_factor\": %.3f",
+                "\"heavy_factor\": %.3f, \"correlated_factor\": %.3f",
                 feature->prepass_pairs, feature->normal_iterations, feature->vertex_iterations,
-                feature->heavy_factor);
+                feature->heavy_factor, feature->correlated_factor);
   std::printf("}\n");
 }
 

@@ -596,6 +596,28 @@ TEST(FeatureSmoothStages, TheNeedReadsTheAmplitudeBesideTheFinestBand) {
   EXPECT_NEAR(detail::featurePassCounts(noisy, params, setup).roughness, 0.4, 1e-12);
 }
 
+// Correlated noise multiplies the normal filter iterations and vertex updates, not the pre-pass
+// (whose positions the automatic choice reads) nor the check's iterations.
+TEST(FeatureSmoothStages, CorrelatedNoiseTakesMoreFilterIterationsNotALongerPrepass) {
+  const MeshArrays noisy = noisySmallBox();
+  detail::DriverSetup setup = detail::driverSetup(noisy, false);
+  FeatureSmoothParams params;
+  setup.noise.noisy = true;
+  setup.noise.amplitude = 0.2;
+  setup.noise.correlated_share = 0.1; // white
+  const FeaturePassCounts white = detail::featurePassCounts(noisy, params, setup);
+  EXPECT_EQ(white.correlated_factor, 1.0);
+  setup.noise.correlated_share = 0.8;
+  const FeaturePassCounts correlated = detail::featurePassCounts(noisy, params, setup);
+  EXPECT_NEAR(correlated.correlated_factor, 1.0 + params.correlated.extra, 1e-12);
+  EXPECT_EQ(correlated.prepass_pairs, white.prepass_pairs);
+  EXPECT_EQ(correlated.normal_iterations,
+            int(std::lround(correlated.amount * 1.5 * params.normals.iterations)));
+  EXPECT_GT(correlated.normal_iterations, white.normal_iterations);
+  EXPECT_GT(correlated.vertex_iterations, white.vertex_iterations);
+  EXPECT_EQ(correlated.checkIterations(params), white.checkIterations(params));
+}
+
 // Heavy noise (its amplitude past HeavyNoiseParams::from) multiplies the passes and the normal
 // filter iterations the first pass's check waits for; at the public benchmark's levels nothing
 // changes.

@@ -166,6 +166,17 @@ TEST(Methods, SummaryNamesTheMethodThatRanAndWhatMoved) {
   EXPECT_NE(r.run.summary.find("vertices moved, by"), std::string::npos) << r.run.summary;
 }
 
+// The summary says when correlated noise took more filter iterations (correlatedNoiseFactor), and
+// not when it did not or nothing ran.
+TEST(Methods, CorrelatedPhraseNamesTheFactorAndTheShare) {
+  NoiseEstimate noise;
+  noise.correlated_share = 0.498;
+  EXPECT_EQ(detail::correlatedPhrase(1.396, 0.8, noise),
+            ", the filter iterations and vertex updates x 1.40 for noise 50 % correlated");
+  EXPECT_EQ(detail::correlatedPhrase(1.0, 0.8, noise), "");
+  EXPECT_EQ(detail::correlatedPhrase(1.4, 0.0, noise), "");
+}
+
 TEST(Strengthen, ScalesBelowOneAndAddsFullAmountsAboveIt) {
   EXPECT_DOUBLE_EQ(detail::strengthen(0.6, 1.0), 0.6);
   EXPECT_DOUBLE_EQ(detail::strengthen(0.6, 0.5), 0.3);

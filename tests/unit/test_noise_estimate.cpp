@@ -300,3 +300,28 @@ TEST(NoiseEstimate, HeavyNoiseFactorIsOneUpToItsAmplitudeThenAPowerOfItCapped) {
   e.amplitude = NAN;
   EXPECT_EQ(heavyNoiseFactor(e), 1.0);
 }
+
+// Correlated noise (its amplitude's correlated share past CorrelatedNoiseParams::share_from) asks
+// the feature mode for up to 1 + extra times the filter iterations; white noise and meshes that
+// read clean ask for nothing more.
+TEST(NoiseEstimate, CorrelatedNoiseFactorRampsWithTheCorrelatedShare) {
+  NoiseEstimate e;
+  e.amplitude = 0.2;
+  e.correlated_share = 0.7;
+  EXPECT_EQ(correlatedNoiseFactor(e), 1.0); // reads clean
+  e.noisy = true;
+  EXPECT_NEAR(correlatedNoiseFactor(e), 1.5, 1e-12); // past share_full
+  e.correlated_share = 0.425;                         // half way from 0.3 to 0.55
+  EXPECT_NEAR(correlatedNoiseFactor(e), 1.25, 1e-12);
+  e.correlated_share = 0.22; // white noise on the public Fandisk reads 0.22
+  EXPECT_EQ(correlatedNoiseFactor(e), 1.0);
+  e.correlated_share = 0.7;
+  e.amplitude = 0; // not read (a mesh under 4096 vertices)
+  EXPECT_EQ(correlatedNoiseFactor(e), 1.0);
+  e.amplitude = 0.2;
+  CorrelatedNoiseParams off;
+  off.extra = 0;
+  EXPECT_EQ(correlatedNoiseFactor(e, off), 1.0);
+  e.correlated_share = NAN;
+  EXPECT_EQ(correlatedNoiseFactor(e), 1.0);
+}

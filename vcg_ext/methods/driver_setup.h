@@ -229,6 +229,15 @@ inline std::string heavyPhrase(double factor, double amount) {
              : std::string();
 }
 
+// The feature mode's extra filter iterations for correlated noise (correlatedNoiseFactor).
+inline std::string correlatedPhrase(double factor, double amount, const NoiseEstimate &noise) {
+  return factor > 1 && amount > 0
+             ? formatLine(", the filter iterations and vertex updates x %.2f for noise %.0f %% "
+                          "correlated",
+                          factor, 100.0 * noise.correlated_share)
+             : std::string();
+}
+
 // The noise estimate in the summary lines.
 inline std::string noisePhrase(const NoiseEstimate &noise, double roughness) {
   return formatLine("noise estimate%s: dihedral spread %.1f deg (%.2f of it left after one Taubin "

@@ -86,6 +86,8 @@ struct FeatureSmoothParams {
   // Heavy noise (an amplitude beyond the public benchmark's) multiplies the need too
   // (noise_estimate.h's heavyNoiseFactor).
   HeavyNoiseParams heavy;
+  // Correlated noise multiplies it too (noise_estimate.h's correlatedNoiseFactor).
+  CorrelatedNoiseParams correlated;
   // Impulses (single vertices far off the surface) are put back first (impulse_repair.h).
   ImpulseParams impulses;
   // Closed meshes: two rounds of an offset along the vertex normals at the end restore the
@@ -110,6 +112,7 @@ struct FeatureSmoothReport {
   double amount = 0;              // the roughness with the user's strength: what scales the passes
   double tail_factor = 1;         // the noise's heavy-tail factor on the need (heavyTailFactor)
   double heavy_factor = 1;        // the heavy-noise factor on the need (heavyNoiseFactor)
+  double correlated_factor = 1;   // on the filter iterations and updates (correlatedNoiseFactor)
   Impulses impulses;              // read, and put back first (impulse_repair.h)
   int prepass_pairs = 0;          // Taubin pairs actually run
   int vertex_iterations = 0;      // vertex updates actually run per pass
@@ -177,7 +180,8 @@ using FilteredNormalsCheck = std::function<bool(
 // noise's heavy-tail factor, with the user's strength, scales the pre-pass, the normal filter and
 // the vertex updates.
 struct FeaturePassCounts {
-  double spread_deg = 0, roughness = 0, amount = 0, tail_factor = 1, heavy_factor = 1;
+  double spread_deg = 0, roughness = 0, amount = 0, tail_factor = 1, heavy_factor = 1,
+         correlated_factor = 1;
   int prepass_pairs = 0, normal_iterations = 0, vertex_iterations = 0;
   // The normal filter iterations before the first pass's check
   // (FeatureSmoothParams::check_iterations).
@@ -205,8 +209,14 @@ inline FeaturePassCounts featurePassCounts(const MeshArrays &mesh, const Feature
   c.amount = strengthen(c.roughness * c.tail_factor * c.heavy_factor, params.strength);
   auto scaled = [&](int count) { return int(std::lround(c.amount * std::max(0, count))); };
   c.prepass_pairs = scaled(params.prepass_pairs);
-  c.normal_iterations = scaled(params.normals.iterations);
-  c.vertex_iterations = scaled(params.vertex_iterations);
+  // Correlated noise takes more filter iterations and vertex updates, not a longer pre-pass: the
+  // pre-pass's Taubin pairs shape the evidence the automatic choice reads (auto_smooth.h).
+  c.correlated_factor = correlatedNoiseFactor(setup.noise, params.correlated);
+  auto filtered = [&](int count) {
+    return int(std::lround(c.amount * c.correlated_factor * std::max(0, count)));
+  };
+  c.normal_iterations = filtered(params.normals.iterations);
+  c.vertex_iterations = filtered(params.vertex_iterations);
   return c;
 }
 
@@ -413,6 +423,7 @@ inline void reportPassCounts(const FeaturePassCounts &counts, const DriverSetup 
   report.amount = counts.amount;
   report.tail_factor = counts.tail_factor;
   report.heavy_factor = counts.heavy_factor;
+  report.correlated_factor = counts.correlated_factor;
   report.prepass_pairs = counts.prepass_pairs;
   report.normal_iterations = counts.normal_iterations;
   report.vertex_iterations = counts.vertex_iterations;
@@ -545,7 +556,9 @@ inline std::string featureSummary(const FeatureSmoothReport &r, const FeatureSmo
                     "vertex updates per pass, %d passes; ",
                     p.strength,
                     (tailPhrase(r.tail_factor, r.amount, r.noise) +
-                     heavyPhrase(r.heavy_factor, r.amount)).c_str(),
+                     heavyPhrase(r.heavy_factor, r.amount) +
+                     correlatedPhrase(r.correlated_factor, r.amount, r.noise))
+                        .c_str(),
                     r.prepass_pairs, r.normal_iterations, r.vertex_iterations,
                     r.outer_iterations_done) +
          movedPhrase(run, vertices) + ".";
