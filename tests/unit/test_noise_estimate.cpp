@@ -316,6 +316,12 @@ TEST(NoiseEstimate, CorrelatedNoiseFactorRampsWithTheCorrelatedShare) {
   e.correlated_share = 0.22; // white noise on the public Fandisk reads 0.22
   EXPECT_EQ(correlatedNoiseFactor(e), 1.0);
   e.correlated_share = 0.7;
+  e.amplitude = 0.125; // half way into the amplitude's ramp (0.1 to 0.15)
+  EXPECT_NEAR(correlatedNoiseFactor(e), 1.25, 1e-12);
+  e.amplitude = 0.09; // light noise: the measured passes remove it
+  EXPECT_EQ(correlatedNoiseFactor(e), 1.0);
+  e.amplitude = 0.2;
+  e.correlated_share = 0.7;
   e.amplitude = 0; // not read (a mesh under 4096 vertices)
   EXPECT_EQ(correlatedNoiseFactor(e), 1.0);
   e.amplitude = 0.2;
