@@ -42,8 +42,7 @@ sys.path[:0] = [str(pathlib.Path(__file__).resolve().parent),  # bench/studies a
                 str(pathlib.Path(__file__).resolve().parents[1])]
 import meshio  # noqa: E402
 import noref  # noqa: E402
-import scanner_noise  # noqa: E402
-from scanner_noise import smooth_field  # noqa: E402
+from scanner_noise import make_heavy_cases, smooth_field  # noqa: E402
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 SHARED = REPO.parent / "shared" / "data"
@@ -194,7 +193,7 @@ def report(rows, clean_rows, cmd):
 def heavy_rows(build, jobs):
     """The heavy set's cases with their truth along the clean normals and what is read."""
     rows = []
-    for c in scanner_noise.make_heavy_cases(REPO / "bench" / "out" / "sweep" / "cases" / "heavy"):
+    for c in make_heavy_cases(REPO / "bench" / "out" / "sweep" / "cases" / "heavy"):
         points, faces, _ = meshio.read_mesh(c["clean"])
         noisy, _, _ = meshio.read_mesh(c["noisy"])
         h = noref.mean_edge_length(points, faces)
@@ -206,8 +205,7 @@ def heavy_rows(build, jobs):
     read = probe(build, [r["path"] for r in rows], jobs)
     for r in rows:
         p = read[r["path"]]
-        r.update(amplitude=p["amplitude"], correlated_share=p["correlated_share"],
-                 noisy=p["noisy"])
+        r.update(amplitude=p["amplitude"], correlated_share=p["correlated_share"])
     return rows
 
 

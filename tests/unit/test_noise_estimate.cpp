@@ -320,8 +320,6 @@ TEST(NoiseEstimate, CorrelatedNoiseFactorRampsWithTheCorrelatedShare) {
   EXPECT_NEAR(correlatedNoiseFactor(e), 1.25, 1e-12);
   e.amplitude = 0.09; // light noise: the measured passes remove it
   EXPECT_EQ(correlatedNoiseFactor(e), 1.0);
-  e.amplitude = 0.2;
-  e.correlated_share = 0.7;
   e.amplitude = 0; // not read (a mesh under 4096 vertices)
   EXPECT_EQ(correlatedNoiseFactor(e), 1.0);
   e.amplitude = 0.2;
@@ -330,4 +328,12 @@ TEST(NoiseEstimate, CorrelatedNoiseFactorRampsWithTheCorrelatedShare) {
   EXPECT_EQ(correlatedNoiseFactor(e, off), 1.0);
   e.correlated_share = NAN;
   EXPECT_EQ(correlatedNoiseFactor(e), 1.0);
+}
+
+TEST(NoiseEstimate, RampBetweenIsLinearClampedAndAStepWhenItsEndsMeet) {
+  EXPECT_EQ(rampBetween(0.2, 0.3, 0.55), 0.0);
+  EXPECT_NEAR(rampBetween(0.4, 0.3, 0.55), 0.4, 1e-12);
+  EXPECT_EQ(rampBetween(0.9, 0.3, 0.55), 1.0);
+  EXPECT_EQ(rampBetween(0.29, 0.3, 0.3), 0.0);
+  EXPECT_EQ(rampBetween(0.3, 0.3, 0.3), 1.0);
 }

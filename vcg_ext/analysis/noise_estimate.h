@@ -359,6 +359,12 @@ struct HeavyTailParams {
   double level_from = 0.08, level_full = 0.12;
 };
 
+// 0 up to `from`, 1 from `full`, linear between (a step at `from` when full <= from): how far a
+// reading is into the range where a factor comes in.
+inline double rampBetween(double x, double from, double full) {
+  return full > from ? std::clamp((x - from) / (full - from), 0.0, 1.0) : double(x >= from);
+}
+
 // The factor on the amount of smoothing for noise whose finest band is heavy-tailed: its root
 // mean square over its median-based std (NoiseEstimate::tail), raised to `power`, where the level
 // is high enough for the band to be noise. Scanner noise is a mixture: its std grows with depth
@@ -368,10 +374,7 @@ struct HeavyTailParams {
 // too (up to about 1.3 on CAD meshes).
 inline double heavyTailFactor(const NoiseEstimate &noise, const HeavyTailParams &params = {}) {
   if (!(params.power > 0) || !(noise.tail > 1) || !std::isfinite(noise.tail)) return 1.0;
-  const double ramp = params.level_full > params.level_from
-                          ? std::clamp((noise.level - params.level_from) /
-                                           (params.level_full - params.level_from), 0.0, 1.0)
-                          : double(noise.level >= params.level_from);
+  const double ramp = rampBetween(noise.level, params.level_from, params.level_full);
   const double full = std::min(std::pow(noise.tail, params.power), params.max_factor);
   return 1.0 + ramp * (full - 1.0);
 }
@@ -414,7 +417,7 @@ inline double heavyNoiseFactor(const NoiseEstimate &noise, const HeavyNoiseParam
 // Noise correlated over several rings asks the feature mode for more passes than white noise of
 // the same amplitude: a normal filter iteration averages neighbouring normals, which removes white
 // noise at once but a correlated bump only as the averaging spreads over its width (heavy set and
-// scanner set: CAD parts under correlated noise gain from twice the passes, white noise of the same
+// scanner set: CAD parts under correlated noise gain from more passes, white noise of the same
 // amplitude loses; docs/studies/scanner-noise.md). The factor grows from 1 to 1 + extra as the
 // amplitude's correlated share goes from share_from to share_full (white noise reads 0-0.26 on the
 // public meshes and heavy white noise, correlated noise 0.5-0.8). It ramps in over amplitudes of
@@ -424,7 +427,7 @@ inline double heavyNoiseFactor(const NoiseEstimate &noise, const HeavyNoiseParam
 struct CorrelatedNoiseParams {
   double extra = 0.5; // 0: off
   double share_from = 0.3, share_full = 0.55;
-  double amplitude_from = 0.1, amplitude_full = 0.15; // equal: no amplitude ramp
+  double amplitude_from = 0.1, amplitude_full = 0.15; // both 0: no amplitude ramp
 };
 
 // The factor on the feature mode's need for correlated noise (CorrelatedNoiseParams): 1 where the
@@ -434,16 +437,9 @@ inline double correlatedNoiseFactor(const NoiseEstimate &noise,
   if (!noise.noisy || !(params.extra > 0) || !(noise.amplitude > 0) ||
       !std::isfinite(noise.correlated_share))
     return 1.0;
-  const double ramp = params.share_full > params.share_from
-                          ? std::clamp((noise.correlated_share - params.share_from) /
-                                           (params.share_full - params.share_from), 0.0, 1.0)
-                          : double(noise.correlated_share >= params.share_from);
-  const double amplitude =
-      params.amplitude_full > params.amplitude_from
-          ? std::clamp((noise.amplitude - params.amplitude_from) /
-                           (params.amplitude_full - params.amplitude_from), 0.0, 1.0)
-          : 1.0;
-  return 1.0 + params.extra * ramp * amplitude;
+  return 1.0 + params.extra *
+                   rampBetween(noise.correlated_share, params.share_from, params.share_full) *
+                   rampBetween(noise.amplitude, params.amplitude_from, params.amplitude_full);
 }
 
 // How a noise's colour is extrapolated beyond the estimate's bands (noiseColour). Off by default
