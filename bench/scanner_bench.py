@@ -278,7 +278,7 @@ def scanner_tables(cases, results, times, runs):
               "CPU = user + system seconds of the same processes (all threads; on a machine "
               "shared with other jobs wall time swings with their load, above all for "
               "multi-threaded runs, while CPU time does not). The last row is the "
-              "time criterion (a whole meshlabserver run at 139k vertices within 2× of Taubin "
+              "time criterion (a whole meshlabserver run at 139k vertices within 2.5× of Taubin "
               "×10): the Bunny subdivided once at its edge midpoints, 2-view level-0.2 scanner "
               "noise, timed only.", "",
               "| case | vertices | ours automatic (default): wall / CPU | MeshLab Taubin ×10: "
