@@ -290,77 +290,17 @@ TEST(NormalFilter, PatchConsistencyIsItsDefinitionBitForBit) {
     const std::vector<float> area(g.area.begin(), g.area.end());
     detail::EdgeJumps jumps;
     detail::normalJumps(r, n, jumps);
-    detail::InnerEdgeMasks masks;
-    detail::innerEdgeMasks(r, masks);
     int differing = 0, positive = 0;
     for (int f = 0; f < int(n.size()); ++f) {
-      float consistency, searched;
-      detail::Normal3f mean, searched_mean;
-      detail::patchConsistency(f, r, n, area, jumps, masks.data() + r.offsets[f], consistency,
-                               mean);
-      // (without the masks the patch finds its inner edges itself: the same bits)
-      detail::patchConsistency(f, r, n, area, jumps, nullptr, searched, searched_mean);
-      differing += consistency != directConsistency(f, r, n) || searched != consistency ||
-                   searched_mean != mean;
+      float consistency;
+      detail::Normal3f mean;
+      detail::patchConsistency(f, r, n, area, jumps, consistency, mean);
+      differing += consistency != directConsistency(f, r, n);
       positive += consistency > 0;
     }
     EXPECT_EQ(differing, 0);
     EXPECT_EQ(positive, int(n.size())); // (noisy: every patch has some inconsistency)
   }
-}
-
-TEST(NormalFilter, InnerEdgeMasksMarkTheEdgesBetweenTwoRingMembers) {
-  // A closed sphere (every edge has two faces) and a roof with a boundary (−1 neighbours): bit k
-  // of entry i is set exactly when member i's edge neighbour k is in the face's ring.
-  for (const MeshArrays &m : {test_meshes::icosphere(1, 2), roof(9)}) {
-    const FaceRings r = computeFaceRings(m.faces, computeRings(int(m.points.size()), m.faces));
-    detail::InnerEdgeMasks masks;
-    detail::innerEdgeMasks(r, masks);
-    ASSERT_EQ(masks.size(), r.faces.size());
-    long set = 0, wrong = 0;
-    for (int f = 0; f < int(m.faces.size()); ++f)
-      for (int i = 0; i < r.size(f); ++i) {
-        const int g = r.begin(f)[i];
-        for (int k = 0; k < 3; ++k) {
-          const int h = r.edge_neighbours[g][k];
-          const bool inner = h >= 0 && r.contains(f, h);
-          wrong += inner != bool((masks[r.offsets[f] + i] >> k) & 1);
-          set += inner;
-        }
-      }
-    EXPECT_EQ(wrong, 0);
-    // On the sphere a face's ring (valence 5 and 6 vertices) has 9-12 faces, each with 1-3 of its
-    // edges inside the patch: well over one inner edge per member.
-    EXPECT_GT(set, long(r.faces.size()));
-  }
-}
-
-TEST(NormalFilter, WeightsFromTheSpatialCacheAreTheWeightsWithout) {
-  // The spatial part kept from one period (filled) and read in the next gives the bits computed
-  // without a cache, for other kernel normals too.
-  MeshArrays m = roof(11);
-  test_meshes::addNoise(m, 0.02, 3);
-  const FaceRings r = computeFaceRings(m.faces, computeRings(int(m.points.size()), m.faces));
-  FaceGeometry g;
-  computeFaceGeometry(m.points, m.faces, g);
-  std::vector<detail::Normal3f> first(g.normal.size()), second(g.normal.size());
-  for (size_t f = 0; f < first.size(); ++f) {
-    first[f] = g.normal[f].cast<float>();
-    second[f] = (g.normal[f] + Vec3(0.1, 0.0, 0.05 * (f % 3))).normalized().cast<float>();
-  }
-  const std::vector<float> area(g.area.begin(), g.area.end());
-  const auto centroid = [&](int f) { return g.centroid[f]; };
-  NormalFilterParams p;
-  p.area_power = 1.0;
-  std::vector<float> cache, filled, read, plain_first, plain_second;
-  detail::filterWeights(r, area, centroid, first, p, 0.1, filled, &cache);
-  ASSERT_EQ(cache.size(), r.faces.size());
-  detail::filterWeights(r, area, centroid, second, p, 0.1, read, &cache);
-  detail::filterWeights(r, area, centroid, first, p, 0.1, plain_first);
-  detail::filterWeights(r, area, centroid, second, p, 0.1, plain_second);
-  EXPECT_EQ(filled, plain_first);
-  EXPECT_EQ(read, plain_second);
-  EXPECT_NE(plain_first, plain_second);
 }
 
 TEST(NormalFilter, ACheckpointSeesTheNormalsSoFarAndDoesNotChangeTheResult) {

@@ -135,56 +135,13 @@ inline void normalJumps(const FaceRings &face_rings, const std::vector<Normal3f>
     }
 }
 
-// Per face-ring entry (CSR, as FaceRings::faces): bit k set when that ring member's edge
-// neighbour k is in the ring too, i.e. the edge is an inner edge of the face's patch. Topology
-// only, so the normal filter keeps it for the run rather than searching the rings again in every
-// guidance period.
-using InnerEdgeMasks = std::vector<std::uint8_t>;
-
-// The masks of face f's ring entries into `mask` (face_rings.size(f) bytes).
-inline void innerEdgeMask(int f, const FaceRings &face_rings, std::uint8_t *mask) {
-  // The ring padded with −1 to a multiple of 4 and 16-byte aligned, for `contains`.
-  constexpr int kOnStack = 32;
-  const int *ring = face_rings.begin(f);
-  const int size = face_rings.size(f), padded = (size + 3) & ~3;
-  alignas(16) int on_stack[kOnStack];
-  std::vector<int> on_heap(padded > kOnStack ? size_t(padded) + 4 : 0);
-  int *members = on_stack;
-  if (padded > kOnStack) {
-    members = on_heap.data();
-    while (reinterpret_cast<std::uintptr_t>(members) % 16 != 0) ++members;
-  }
-  for (int i = 0; i < size; ++i) members[i] = ring[i];
-  for (int i = size; i < padded; ++i) members[i] = -1;
-  for (int i = 0; i < size; ++i) {
-    const std::array<int, 3> &neighbours = face_rings.edge_neighbours[ring[i]];
-    mask[i] = 0;
-    for (int k = 0; k < 3; ++k) { // (−1: a boundary edge; the padding holds −1 too)
-      const bool inner = neighbours[k] >= 0 && contains(members, padded, neighbours[k]);
-      mask[i] |= std::uint8_t(int(inner) << k);
-    }
-  }
-}
-
-inline void innerEdgeMasks(const FaceRings &face_rings, InnerEdgeMasks &masks) {
-  const int m = int(face_rings.edge_neighbours.size());
-  masks.resize(face_rings.faces.size());
-  AllocationGuard guard; // (a ring of more than 32 faces is copied to the heap)
-#pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
-  for (int f = 0; f < m; ++f)
-    guard.run([&] { innerEdgeMask(f, face_rings, masks.data() + face_rings.offsets[f]); });
-  guard.rethrow();
-}
-
 // GNF's patch consistency H = D·R of the vertex ring of `f` (smaller: more consistent): D the
 // largest normal difference in the patch, R the largest normal jump across one of its inner edges
-// over the sum of those jumps (`jumps`: normalJumps; `mask`: f's entries of innerEdgeMasks, or
-// null to find them here). Also the patch's area-weighted mean normal, the guidance it offers. On
-// the filter's single-precision normals; the mean is summed in double.
+// over the sum of those jumps (`jumps`: normalJumps). Also the patch's area-weighted mean normal,
+// the guidance it offers. On the filter's single-precision normals; the mean is summed in double.
 inline void patchConsistency(int f, const FaceRings &face_rings, const std::vector<Normal3f> &normals,
                              const std::vector<float> &area, const EdgeJumps &jumps,
-                             const std::uint8_t *mask, float &consistency,
-                             Normal3f &mean_normal) {
+                             float &consistency, Normal3f &mean_normal) {
   // The patch's normals are gathered first (the pair loop reads each a dozen times), as
   // coordinate arrays for the four-wide pair loop.
   constexpr int kOnStack = 32;
@@ -192,21 +149,21 @@ inline void patchConsistency(int f, const FaceRings &face_rings, const std::vect
   const int size = face_rings.size(f);
   const int padded = (size + 3) & ~3;
   alignas(16) float on_stack[3][kOnStack];
-  std::uint8_t mask_on_stack[kOnStack];
+  alignas(16) int ring_on_stack[kOnStack];
   std::vector<float> on_heap(padded > kOnStack ? 3 * size_t(padded) + 4 : 0);
-  std::vector<std::uint8_t> mask_on_heap(!mask && padded > kOnStack ? size : 0);
+  std::vector<int> ring_on_heap(padded > kOnStack ? size_t(padded) + 4 : 0);
   float *xs = on_stack[0], *ys = on_stack[1], *zs = on_stack[2];
+  int *members = ring_on_stack;
   if (padded > kOnStack) {
-    // 16-byte aligned inside the heap block.
+    // 16-byte aligned inside the heap blocks.
     float *base = on_heap.data();
     while (reinterpret_cast<std::uintptr_t>(base) % 16 != 0) ++base;
     xs = base, ys = base + padded, zs = base + 2 * padded;
+    members = ring_on_heap.data();
+    while (reinterpret_cast<std::uintptr_t>(members) % 16 != 0) ++members;
   }
-  if (!mask) {
-    std::uint8_t *own = padded > kOnStack ? mask_on_heap.data() : mask_on_stack;
-    innerEdgeMask(f, face_rings, own);
-    mask = own;
-  }
+  for (int i = 0; i < size; ++i) members[i] = ring[i];
+  for (int i = size; i < padded; ++i) members[i] = -1;
   Vec3 sum = Vec3::Zero();
   for (int i = 0; i < size; ++i) {
     const Normal3f &n = normals[ring[i]];
@@ -219,10 +176,11 @@ inline void patchConsistency(int f, const FaceRings &face_rings, const std::vect
   // adds 0, which leaves the sum's bits as they are.
   float largest_jump = 0, jump_sum = 0;
   for (int i = 0; i < size; ++i) {
+    const std::array<int, 3> &neighbours = face_rings.edge_neighbours[ring[i]];
     const std::array<float, 3> &jump = jumps[ring[i]];
     for (int k = 0; k < 3; ++k) {
       // (× 1 or 0: exact for the finite jumps of unit or zero normals, and no branch on the data)
-      const float d = jump[k] * float((mask[i] >> k) & 1);
+      const float d = jump[k] * float(contains(members, padded, neighbours[k]));
       largest_jump = d > largest_jump ? d : largest_jump;
       jump_sum += d;
     }
@@ -241,11 +199,10 @@ namespace detail {
 // choice does not depend on the order of the scan.
 // `patch_normal`: room for the patches' mean normals (the caller's spare buffer, overwritten). The
 // edge jumps are released before the guidance is allocated, so the peak stays that of the
-// selection (normals, patch normals, consistencies, guidance). `masks`: innerEdgeMasks, or empty to
-// find the inner edges patch by patch.
-inline void chooseGuidance(const FaceRings &face_rings, const InnerEdgeMasks &masks,
-                           const std::vector<Normal3f> &normals, const std::vector<float> &area,
-                           std::vector<Normal3f> &patch_normal, std::vector<Normal3f> &guidance) {
+// selection (normals, patch normals, consistencies, guidance).
+inline void chooseGuidance(const FaceRings &face_rings, const std::vector<Normal3f> &normals,
+                           const std::vector<float> &area, std::vector<Normal3f> &patch_normal,
+                           std::vector<Normal3f> &guidance) {
   const int m = int(normals.size());
   std::vector<float> consistency(m);
   patch_normal.resize(m);
@@ -256,9 +213,7 @@ inline void chooseGuidance(const FaceRings &face_rings, const InnerEdgeMasks &ma
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
     for (int f = 0; f < m; ++f)
       guard.run([&] {
-        patchConsistency(f, face_rings, normals, area, jumps,
-                         masks.empty() ? nullptr : masks.data() + face_rings.offsets[f],
-                         consistency[f], patch_normal[f]);
+        patchConsistency(f, face_rings, normals, area, jumps, consistency[f], patch_normal[f]);
       });
     guard.rethrow();
   }
@@ -274,41 +229,27 @@ inline void chooseGuidance(const FaceRings &face_rings, const InnerEdgeMasks &ma
   }
 }
 
-// The filter's weight per face-ring entry: spatial Gaussian on the centroids' distance times the
-// area term (its spatial part), times the range kernel on the kernel normals' difference.
-// `spatial_cache` (optional) keeps the spatial part, which does not change while the centroids do
-// not move: filled when empty, read when full.
+// The filter's weight per face-ring entry: spatial Gaussian on the centroids' distance, range
+// kernel on the kernel normals' difference, times the area term.
 template <class CentroidOf>
 void filterWeights(const FaceRings &face_rings, const std::vector<float> &area,
                    CentroidOf centroid_of, const std::vector<Normal3f> &kernel_normals,
-                   const NormalFilterParams &params, double mean_edge, std::vector<float> &weight,
-                   std::vector<float> *spatial_cache = nullptr) {
+                   const NormalFilterParams &params, double mean_edge, std::vector<float> &weight) {
   const int m = int(kernel_normals.size());
   const double spatial = -0.5 / std::pow(params.sigma_s * mean_edge, 2);
   const double range = -0.5 / (params.sigma_r * params.sigma_r);
-  const size_t entries = face_rings.faces.size();
-  weight.resize(entries);
-  const bool read = spatial_cache && spatial_cache->size() == entries;
-  if (spatial_cache && !read) spatial_cache->resize(entries);
+  weight.resize(face_rings.faces.size());
 #pragma omp parallel for schedule(static) if (m >= min_parallel_vertices)
   for (int f = 0; f < m; ++f) {
     const Vec3 own = kernel_normals[f].cast<double>(), own_centroid = centroid_of(f);
     for (int k = face_rings.offsets[f]; k < face_rings.offsets[f + 1]; ++k) {
       const int g = face_rings.faces[k];
-      float spatial_weight;
-      if (read) {
-        spatial_weight = (*spatial_cache)[k];
-      } else {
-        const double ds = (own_centroid - centroid_of(g)).squaredNorm();
-        const double face_area =
-            params.area_power == 0.0   ? 1.0
-            : params.area_power == 1.0 ? double(area[g])
-                                       : std::pow(double(area[g]), params.area_power);
-        spatial_weight = float(face_area * std::exp(spatial * ds));
-        if (spatial_cache) (*spatial_cache)[k] = spatial_weight;
-      }
+      const double ds = (own_centroid - centroid_of(g)).squaredNorm();
+      const double face_area = params.area_power == 0.0   ? 1.0
+                               : params.area_power == 1.0 ? double(area[g])
+                                                          : std::pow(double(area[g]), params.area_power);
       const double dr = (own - kernel_normals[g].cast<double>()).squaredNorm();
-      weight[k] = float(double(spatial_weight) * rangeKernel(range * dr));
+      weight[k] = float(face_area * std::exp(spatial * ds) * rangeKernel(range * dr));
     }
   }
 }
@@ -347,30 +288,25 @@ void filterNormalsCore(const FaceRings &face_rings, const std::vector<float> &ar
   const int every = std::max(1, params.guidance_every);
   std::vector<Normal3f> out(m), next, guidance;
   std::vector<float> weight;
-  // Kept for the run (topology and centroids do not change): the patches' inner edges (1 byte per
-  // face-ring entry) and the weights' spatial part (4 bytes). Made only once no checkpoint is
-  // pending: a filter that the checkpoint stops (the automatic mode's evidence, on meshes of
-  // millions of faces) holds no more than one period's weights at its peak.
-  InnerEdgeMasks masks;
-  std::vector<float> spatial_weight;
   for (int f = 0; f < m; ++f) out[f] = normals[f].cast<float>();
   std::vector<Vec3>().swap(normals);
   bool pending = checkpoint && checkpoint_at > 0;
   for (int it = 0; it < iterations; ++it) {
     const bool guidance_changed = guided && it % every == 0;
     // The weights change with the kernel normals only: the guided filter's guidance stays for
-    // `guidance_every` iterations, and so do its weights (computed once per period).
+    // `guidance_every` iterations, and so do its weights (computed once per period). The spatial
+    // part (the centroids do not move) is recomputed with them rather than kept: one more exp per
+    // entry and period, against another array per face-ring entry held all along.
     if (!guided || guidance_changed) {
       std::vector<float>().swap(weight); // the previous period's
       if (guided) {
-        if (!pending && masks.empty()) innerEdgeMasks(face_rings, masks);
         // `next` (the previous iteration's normals, not read again) lends its room to the
         // patches' mean normals, then goes, so the weights do not stack on it.
-        chooseGuidance(face_rings, masks, out, area, next, guidance);
+        chooseGuidance(face_rings, out, area, next, guidance);
         std::vector<Normal3f>().swap(next);
       }
       filterWeights(face_rings, area, centroid_of, guided ? guidance : out, params, mean_edge,
-                    weight, pending ? nullptr : &spatial_weight);
+                    weight);
       // The guidance is kept only when the checkpoint falls inside its period, not at its end
       // (the weights are made again from it after the checkpoint).
       if (!(pending && checkpoint_at < it + every)) std::vector<Normal3f>().swap(guidance);
@@ -391,15 +327,12 @@ void filterNormalsCore(const FaceRings &face_rings, const std::vector<float> &ar
       for (int f = 0; f < m; ++f) out[f] = normals[f].cast<float>(); // (exact: they were floats)
       std::vector<Vec3>().swap(normals);
       if (guided && (it + 1) % every != 0) // (inside a period: its weights again)
-        filterWeights(face_rings, area, centroid_of, guidance, params, mean_edge, weight,
-                      &spatial_weight);
+        filterWeights(face_rings, area, centroid_of, guidance, params, mean_edge, weight);
       std::vector<Normal3f>().swap(guidance);
     }
   }
   std::vector<Normal3f>().swap(next);
   std::vector<float>().swap(weight);
-  std::vector<float>().swap(spatial_weight);
-  InnerEdgeMasks().swap(masks);
   toDouble(out, normals);
 }
 
@@ -409,13 +342,11 @@ void filterNormalsCore(const FaceRings &face_rings, const std::vector<float> &ar
 // `faces`) on entry and the filtered ones on return (the positions do not change meanwhile).
 // The filter's state is kept in single precision (normals, guidance, consistency, face areas and
 // the weights per face-ring entry; sums and weights are computed in double), and the faces'
-// centroids are computed where the weights need them. At its peak about 145 bytes per face, most
-// of them per face-ring entry (about 13 per face): the weights and their spatial part (4 bytes
-// each) and the inner-edge masks (1 byte); until a checkpoint has passed, only the weights (about
-// 80 bytes per face: the automatic mode's evidence on large meshes). A normal's float rounding
-// (6e-8) is far below what the filter resolves. The result is the same for any thread count
-// (every face is written by one thread from the previous iteration's values). `normals`' own
-// buffer is released while the filter runs. `checkpoint` (optional) sees the normals after `checkpoint_at`
+// centroids are computed where the weights need them: about 80 bytes per face at its peak, most
+// of them the weights (4 bytes per face-ring entry). A normal's float rounding (6e-8) is far
+// below what the filter resolves. The result is the same for any thread count (every face is
+// written by one thread from the previous iteration's values). `normals`' own buffer is released
+// while the filter runs. `checkpoint` (optional) sees the normals after `checkpoint_at`
 // iterations and may stop the filter there or change its iteration count
 // (NormalFilterCheckpoint).
 inline void filterNormalsInPlace(const std::vector<Vec3> &points, const std::vector<Face> &faces,
