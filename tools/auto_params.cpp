@@ -33,6 +33,7 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   integer("f.prepass_pairs", f.prepass_pairs);
   real("f.planar_extra", f.planar_extra);
   real("f.planar_share_from", f.planar_share_from);
+  real("f.planar_correlated_shift", f.planar_correlated_shift);
   real("f.planar_share_full", f.planar_share_full);
   real("f.planar_normal_share", f.planar_normal_share);
   real("f.planar_vertex_share", f.planar_vertex_share);

@@ -218,7 +218,8 @@ TEST(FeatureSmooth, NoiseEstimateScalesTheSmoothing) {
   // Part of the passes: the roughness's share of them, then the planar extra of a box (its flat
   // share after the first guidance period, feature_smooth.h's planar_extra).
   const FeatureSmoothParams p;
-  const double planar = p.planar_extra * std::clamp((faint.flat_share - p.planar_share_from) /
+  const double shift = p.planar_correlated_shift * correlatedNoiseRamp(faint.noise);
+  const double planar = p.planar_extra * std::clamp((faint.flat_share - p.planar_share_from + shift) /
                                                         (p.planar_share_full - p.planar_share_from),
                                                     0.0, 1.0);
   EXPECT_EQ(faint.normal_iterations,
@@ -271,14 +272,19 @@ TEST(FeatureSmooth, BuildsTheFaceRingsWhenTheSetUpHasNone) {
 }
 
 // The planar extra (FeatureSmoothParams::planar_extra): none up to planar_share_from, linear to
-// twice the counts at planar_share_full (the defaults 0.3 / 0.45, extra 1), rounded.
+// twice the counts at planar_share_full (the defaults 0.3 / 0.45, extra 1), rounded; fully
+// correlated noise (correlatedNoiseRamp 1) lowers both by 0.15, half correlated by 0.075.
 TEST(FeatureSmoothStages, PlanarExtraScalesTheCountsByTheFlatShare) {
   const FeatureSmoothParams params;
-  auto counts = [&](double flat_share) {
+  auto counts = [&](double flat_share, double correlated_ramp = 0.0) {
     int normal = 10, vertex = 6;
-    detail::addPlanarExtra(flat_share, params, normal, vertex);
+    detail::addPlanarExtra(flat_share, correlated_ramp, params, normal, vertex);
     return std::make_pair(normal, vertex);
   };
+  EXPECT_EQ(counts(0.15, 1.0), std::make_pair(10, 6));
+  EXPECT_EQ(counts(0.225, 1.0), std::make_pair(15, 9));
+  EXPECT_EQ(counts(0.3, 1.0), std::make_pair(20, 12));
+  EXPECT_EQ(counts(0.3, 0.5), std::make_pair(15, 9)); // ramp 0.225 .. 0.375
   EXPECT_EQ(counts(0.1), std::make_pair(10, 6));
   EXPECT_EQ(counts(0.3), std::make_pair(10, 6));
   EXPECT_EQ(counts(0.375), std::make_pair(15, 9)); // half way: 1.5 times
@@ -287,7 +293,7 @@ TEST(FeatureSmoothStages, PlanarExtraScalesTheCountsByTheFlatShare) {
   FeatureSmoothParams off = params;
   off.planar_extra = 0;
   int normal = 10, vertex = 6;
-  detail::addPlanarExtra(0.9, off, normal, vertex);
+  detail::addPlanarExtra(0.9, 1.0, off, normal, vertex);
   EXPECT_EQ(normal, 10);
   EXPECT_EQ(vertex, 6);
 }

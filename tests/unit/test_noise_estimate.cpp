@@ -330,6 +330,25 @@ TEST(NoiseEstimate, CorrelatedNoiseFactorRampsWithTheCorrelatedShare) {
   EXPECT_EQ(correlatedNoiseFactor(e), 1.0);
 }
 
+// The correlated range's ramp alone (the planar extra reads it too): the factor's ramp, whatever
+// the factor's extra.
+TEST(NoiseEstimate, CorrelatedNoiseRampIsTheFactorsRampWhateverItsExtra) {
+  NoiseEstimate e;
+  e.noisy = true;
+  e.amplitude = 0.2;
+  e.correlated_share = 0.7;
+  CorrelatedNoiseParams off;
+  off.extra = 0;
+  EXPECT_EQ(correlatedNoiseRamp(e), 1.0);
+  EXPECT_EQ(correlatedNoiseRamp(e, off), 1.0);
+  e.correlated_share = 0.425;
+  EXPECT_NEAR(correlatedNoiseRamp(e), 0.5, 1e-12);
+  e.amplitude = 0.125;
+  EXPECT_NEAR(correlatedNoiseRamp(e), 0.25, 1e-12);
+  e.noisy = false;
+  EXPECT_EQ(correlatedNoiseRamp(e), 0.0);
+}
+
 TEST(NoiseEstimate, RampBetweenIsLinearClampedAndAStepWhenItsEndsMeet) {
   EXPECT_EQ(rampBetween(0.2, 0.3, 0.55), 0.0);
   EXPECT_NEAR(rampBetween(0.4, 0.3, 0.55), 0.4, 1e-12);

@@ -430,16 +430,22 @@ struct CorrelatedNoiseParams {
   double amplitude_from = 0.1, amplitude_full = 0.15; // both 0: no amplitude ramp
 };
 
+// How far a noise is into the correlated range (CorrelatedNoiseParams' two ramps, 0 to 1): 0
+// where the amplitude was not read or the mesh reads clean. The feature mode reads it twice
+// (correlatedNoiseFactor; its planar extra's ramp, feature_smooth.h).
+inline double correlatedNoiseRamp(const NoiseEstimate &noise,
+                                  const CorrelatedNoiseParams &params = {}) {
+  if (!noise.noisy || !(noise.amplitude > 0) || !std::isfinite(noise.correlated_share)) return 0.0;
+  return rampBetween(noise.correlated_share, params.share_from, params.share_full) *
+         rampBetween(noise.amplitude, params.amplitude_from, params.amplitude_full);
+}
+
 // The factor on the feature mode's need for correlated noise (CorrelatedNoiseParams): 1 where the
 // amplitude was not read or the mesh reads clean.
 inline double correlatedNoiseFactor(const NoiseEstimate &noise,
                                     const CorrelatedNoiseParams &params = {}) {
-  if (!noise.noisy || !(params.extra > 0) || !(noise.amplitude > 0) ||
-      !std::isfinite(noise.correlated_share))
-    return 1.0;
-  return 1.0 + params.extra *
-                   rampBetween(noise.correlated_share, params.share_from, params.share_full) *
-                   rampBetween(noise.amplitude, params.amplitude_from, params.amplitude_full);
+  if (!(params.extra > 0)) return 1.0;
+  return 1.0 + params.extra * correlatedNoiseRamp(noise, params);
 }
 
 // How a noise's colour is extrapolated beyond the estimate's bands (noiseColour). Off by default

@@ -70,6 +70,11 @@ struct FeatureSmoothParams {
   // planar_share_from, all from planar_share_full. Planar faces gain from more, curved ones lose
   // (docs/studies/feature-mode.md).
   double planar_extra = 1.0, planar_share_from = 0.3, planar_share_full = 0.45;
+  // Correlated noise leaves more edges bent after the first guidance period than white noise of
+  // the same amplitude (a bump a few rings wide outlasts the first averaging), so planar faces
+  // read a lower share: both thresholds lower by up to planar_correlated_shift, as far as the
+  // noise is into the correlated range (correlatedNoiseRamp; docs/studies/feature-mode.md).
+  double planar_correlated_shift = 0.15;
   double planar_normal_share = 1.0, planar_vertex_share = 1.0; // of the extra, to each
   double tangential = 0.5;    // step of the tangential relaxation toward the 1-ring barycentre
   int relax_rings = 1;        // relax vertices within this many rings of a folded face; −1: all
@@ -181,7 +186,7 @@ using FilteredNormalsCheck = std::function<bool(
 // the vertex updates.
 struct FeaturePassCounts {
   double spread_deg = 0, roughness = 0, amount = 0, tail_factor = 1, heavy_factor = 1,
-         correlated_factor = 1;
+         correlated_factor = 1, correlated_ramp = 0;
   int prepass_pairs = 0, normal_iterations = 0, vertex_iterations = 0;
   // The normal filter iterations before the first pass's check
   // (FeatureSmoothParams::check_iterations).
@@ -212,6 +217,7 @@ inline FeaturePassCounts featurePassCounts(const MeshArrays &mesh, const Feature
   // Correlated noise takes more filter iterations and vertex updates, not a longer pre-pass: the
   // pre-pass's Taubin pairs shape the evidence the automatic choice reads (auto_smooth.h).
   c.correlated_factor = correlatedNoiseFactor(setup.noise, params.correlated);
+  c.correlated_ramp = correlatedNoiseRamp(setup.noise, params.correlated);
   auto filtered = [&](int count) {
     return int(std::lround(c.amount * c.correlated_factor * std::max(0, count)));
   };
@@ -225,13 +231,15 @@ inline FeaturePassCounts featurePassCounts(const MeshArrays &mesh, const Feature
 namespace detail {
 
 // Meshes of planar faces take more normal filter iterations and vertex updates, by the share of
-// edges flat after the first guidance period (FeatureSmoothParams::planar_extra).
-inline void addPlanarExtra(double flat_share, const FeatureSmoothParams &params,
-                           int &normal_iterations, int &vertex_iterations) {
+// edges flat after the first guidance period, read against a ramp that starts lower under
+// correlated noise (`correlated_ramp`: correlatedNoiseRamp; FeatureSmoothParams::planar_extra).
+inline void addPlanarExtra(double flat_share, double correlated_ramp,
+                           const FeatureSmoothParams &params, int &normal_iterations,
+                           int &vertex_iterations) {
+  const double shift = params.planar_correlated_shift * correlated_ramp;
   const double extra =
-      params.planar_extra * std::clamp((flat_share - params.planar_share_from) /
-                                           (params.planar_share_full - params.planar_share_from),
-                                       0.0, 1.0);
+      params.planar_extra * rampBetween(flat_share, params.planar_share_from - shift,
+                                        params.planar_share_full - shift);
   normal_iterations = int(std::lround(normal_iterations * (1 + extra * params.planar_normal_share)));
   vertex_iterations = int(std::lround(vertex_iterations * (1 + extra * params.planar_vertex_share)));
 }
@@ -370,7 +378,8 @@ inline bool filterPassNormals(bool check, const MeshArrays &mesh, DriverSetup &s
       // on a fine curved mesh this reads high, but the automatic choice sends those to the organic
       // mode.
       report.flat_share = sharpFeatureEvidence(normals, normals, setup.face_rings).flat_share;
-      addPlanarExtra(report.flat_share, params, normal_filter.iterations, vertex_iterations);
+      addPlanarExtra(report.flat_share, counts.correlated_ramp, params, normal_filter.iterations,
+                     vertex_iterations);
       report.normal_iterations = normal_filter.iterations;
       report.vertex_iterations = vertex_iterations;
     }
