@@ -28,6 +28,7 @@
 // (the probe runs in single precision: its figures agree to float rounding).
 #pragma once
 
+#include "vcg_ext/core/ramp.h"
 #include "vcg_ext/analysis/curvature.h"
 #include "vcg_ext/analysis/dihedral_spread.h"
 #include "vcg_ext/analysis/noise_amplitude.h"
@@ -359,11 +360,6 @@ struct HeavyTailParams {
   double level_from = 0.08, level_full = 0.12;
 };
 
-// 0 up to `from`, 1 from `full`, linear between (a step at `from` when full <= from): how far a
-// reading is into the range where a factor comes in.
-inline double rampBetween(double x, double from, double full) {
-  return full > from ? std::clamp((x - from) / (full - from), 0.0, 1.0) : double(x >= from);
-}
 
 // The factor on the amount of smoothing for noise whose finest band is heavy-tailed: its root
 // mean square over its median-based std (NoiseEstimate::tail), raised to `power`, where the level

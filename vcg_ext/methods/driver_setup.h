@@ -481,8 +481,7 @@ inline void ensureFaceRings(const MeshArrays &mesh, DriverSetup &s) {
 // The noise estimate as a roughness 0 (clean) .. 1 (noisy): linear in the median dihedral spread
 // between the two thresholds.
 inline double roughnessOf(double spread_deg, double clean_spread_deg, double noisy_spread_deg) {
-  return std::clamp((spread_deg - clean_spread_deg) / (noisy_spread_deg - clean_spread_deg), 0.0,
-                    1.0);
+  return rampBetween(spread_deg, clean_spread_deg, noisy_spread_deg);
 }
 
 // The measured methods' need for smoothing, 0 (clean) .. 1 (noisy): 0 where the noise estimate

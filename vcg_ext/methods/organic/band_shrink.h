@@ -35,6 +35,7 @@
 
 #include "vcg_ext/analysis/curvature.h"
 #include "vcg_ext/core/position_hash.h"
+#include "vcg_ext/core/ramp.h"
 #include "vcg_ext/core/selection.h"
 #include "vcg_ext/smoothing/taubin.h"
 #include "vcg_ext/smoothing/spatial_taubin.h"
@@ -155,9 +156,8 @@ inline double alphaFromSpectrum(double shape_slope, double coarse_snr, double fi
   const double gate = std::clamp((params.gate_snr_none - fine_snr) /
                                      (params.gate_snr_none - params.gate_snr_full),
                                  0.0, 1.0);
-  const double level = std::clamp((noise_edges - params.noise_for_any_alpha) /
-                                      (params.noise_for_full_alpha - params.noise_for_any_alpha),
-                                  0.0, 1.0);
+  const double level =
+      rampBetween(noise_edges, params.noise_for_any_alpha, params.noise_for_full_alpha);
   const double smooth = std::clamp((params.coarse_snr_detailed - coarse_snr) /
                                       (params.coarse_snr_detailed - params.coarse_snr_smooth),
                                   0.0, 1.0);
