@@ -616,12 +616,37 @@ TEST(FeatureSmoothStages, CorrelatedNoiseTakesMoreFilterIterationsNotALongerPrep
   setup.noise.correlated_share = 0.8;
   const FeaturePassCounts correlated = detail::featurePassCounts(noisy, params, setup);
   EXPECT_NEAR(correlated.correlated_factor, 1.0 + params.correlated.extra, 1e-12);
+  EXPECT_EQ(white.correlated_ramp, 0.0); // (what the planar extra's thresholds are lowered by)
+  EXPECT_EQ(correlated.correlated_ramp, 1.0);
   EXPECT_EQ(correlated.prepass_pairs, white.prepass_pairs);
   EXPECT_EQ(correlated.normal_iterations,
             int(std::lround(correlated.amount * 1.5 * params.normals.iterations)));
   EXPECT_GT(correlated.normal_iterations, white.normal_iterations);
   EXPECT_GT(correlated.vertex_iterations, white.vertex_iterations);
   EXPECT_EQ(correlated.checkIterations(params), white.checkIterations(params));
+}
+
+// Correlated noise on a box large enough for the amplitude to be read: the driver's counts carry
+// the planar extra read against the ramp lowered by correlatedNoiseRamp, and the lowering matters.
+TEST(FeatureSmooth, ThePlanarExtraReadsTheCorrelatedRampOnACorrelatedNoisyBox) {
+  const MeshArrays clean = test_meshes::box(1.0, 0.8, 0.6, 32);
+  ASSERT_GE(clean.points.size(), 4096u);
+  const MeshArrays noisy = test_meshes::withCorrelatedNoise(clean, 0.4 * meanEdge(clean), 2, 5);
+  FeatureSmoothReport r;
+  featureSmoothed(noisy, FeatureSmoothParams(), &r);
+  const FeatureSmoothParams p;
+  const double ramp = correlatedNoiseRamp(r.noise, p.correlated);
+  ASSERT_GT(ramp, 0.0) << "amplitude " << r.noise.amplitude << ", share "
+                       << r.noise.correlated_share;
+  auto counts = [&](double with_ramp) {
+    int normal = int(std::lround(r.amount * r.correlated_factor * p.normals.iterations));
+    int vertex = int(std::lround(r.amount * r.correlated_factor * p.vertex_iterations));
+    detail::addPlanarExtra(r.flat_share, with_ramp, p, normal, vertex);
+    return std::make_pair(normal, vertex);
+  };
+  EXPECT_EQ(std::make_pair(r.normal_iterations, r.vertex_iterations), counts(ramp))
+      << "flat share " << r.flat_share;
+  EXPECT_GT(r.normal_iterations, counts(0.0).first) << "flat share " << r.flat_share;
 }
 
 // Heavy noise (its amplitude past HeavyNoiseParams::from) multiplies the passes and the normal
