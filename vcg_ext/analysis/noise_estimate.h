@@ -360,7 +360,6 @@ struct HeavyTailParams {
   double level_from = 0.08, level_full = 0.12;
 };
 
-
 // The factor on the amount of smoothing for noise whose finest band is heavy-tailed: its root
 // mean square over its median-based std (NoiseEstimate::tail), raised to `power`, where the level
 // is high enough for the band to be noise. Scanner noise is a mixture: its std grows with depth
