@@ -5,10 +5,11 @@ set, against ours from a bench/studies/method_sweep.py run (its automatic mode).
 comparison, with the peers' sweeps and the oracle, is bench/studies/heavy_noise.py --all (about
 two hours); the peers at their defaults do not depend on our build, so they are kept and reused.
 
-    python3 bench/studies/heavy_peer_defaults.py [--build build] TAG [TAG ...]
+    python3 bench/studies/heavy_peer_defaults.py [--build build] [--rerun-peers] TAG [TAG ...]
 
 TAG: bench/out/sweep/TAG.json, made by `python3 bench/studies/method_sweep.py --sets heavy --tag
-TAG [knob=value ...]`. Peers' figures: bench/out/studies/heavy_peer_defaults.json.
+TAG [knob=value ...]`. Peers' figures: bench/out/studies/heavy_peer_defaults.json (--rerun-peers:
+made again, e.g. after the heavy set's model changed; about two minutes on two cores).
 """
 import argparse
 import json
@@ -24,9 +25,9 @@ REPO = bench.REPO
 PEERS_JSON = REPO / "bench" / "out" / "studies" / "heavy_peer_defaults.json"
 
 
-def peer_defaults(build):
+def peer_defaults(build, rerun):
     """{case: {peer: θ}} for the heavy set, run once and kept in PEERS_JSON."""
-    if PEERS_JSON.exists():
+    if PEERS_JSON.exists() and not rerun:
         return json.loads(PEERS_JSON.read_text())
     work = REPO / "bench" / "out" / "heavy_peer_defaults"
     runner = bench.Runner(pathlib.Path(build).resolve(), work)
@@ -51,9 +52,10 @@ def peer_defaults(build):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--build", default=str(REPO / "build"))
+    ap.add_argument("--rerun-peers", action="store_true")
     ap.add_argument("tags", nargs="+")
     args = ap.parse_args()
-    peers = peer_defaults(args.build)
+    peers = peer_defaults(args.build, args.rerun_peers)
     for tag in args.tags:
         ours = json.loads((REPO / "bench" / "out" / "sweep" / f"{tag}.json").read_text())
         below_all = below_sd = 0
