@@ -1,12 +1,14 @@
 // noise_probe: the noise estimate of vcg_ext/analysis/noise_estimate.h for a list of meshes, one JSON line
 // per mesh (bench/studies/noise_estimate.py reads them).
 //
-//   noise_probe [--no-amplitude | --amplitude-always] <mesh> [<mesh> ...]
+//   noise_probe [--no-amplitude | --amplitude-always] [--amplitude-noisy T]
+//               [--trimmed-quantile Q] <mesh> [<mesh> ...]
 #include "tool_mesh.h"
 
 #include <vcg_ext/analysis/noise_estimate.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <string>
 
 int main(int argc, char **argv) {
@@ -19,6 +21,14 @@ int main(int argc, char **argv) {
   for (int a = 1; a < argc; ++a) {
     if (std::string(argv[a]) == "--no-amplitude") { // the estimate without the amplitude (timing)
       params.amplitude = false;
+      continue;
+    }
+    if (std::string(argv[a]) == "--trimmed-quantile" && a + 1 < argc) { // trimmed band energies
+      params.amplitude_bands.trimmed_quantile = std::atof(argv[++a]);
+      continue;
+    }
+    if (std::string(argv[a]) == "--amplitude-noisy" && a + 1 < argc) { // 0: the pair's test alone
+      params.amplitude_noisy = std::atof(argv[++a]);
       continue;
     }
     if (std::string(argv[a]) == "--amplitude-always") { // also where the mesh reads clean
@@ -43,7 +53,8 @@ int main(int argc, char **argv) {
     std::printf("], \"amplitude\": %.5f, \"correlation_steps\": %d, \"correlated_share\": %.4f"
                 ", \"spread_deg\": %.4f, \"smoothed_spread_deg\": %.4f, \"decay\": %.5f, "
                 "\"counted_vertices\": %ld, \"seconds\": %.4f}\n",
-                e.amplitude, e.correlation_steps, e.correlated_share, e.spread_deg,
+                e.amplitude, e.correlation_steps, e.correlated_share, e.trimmed_amplitude,
+                e.noisy_by_amplitude ? "true" : "false", e.spread_deg,
                 e.smoothed_spread_deg, e.decay, e.counted_vertices, seconds);
   }
   return status;

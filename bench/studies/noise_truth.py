@@ -144,14 +144,16 @@ def report(rows, clean_rows, cmd):
              "(noise_estimate.h); *amplitude*: noise_amplitude.h, with the correlation *s* it was "
              "read with; *truth*: rms of the added noise along the normals (mean edge lengths); "
              "*above 10*: its part above the 10-step low-pass.\n",
-             "*read anyway*: the amplitude also where the mesh reads clean (noise_probe "
-             "--amplitude-always; the filter reads it only on meshes that read noisy). *dense*: "
-             "with impulses, the reading against the dense noise's level (the impulses are read "
-             "apart, analysis/impulses.h).\n",
+             "*read noisy*: by one Taubin pair's test or, where that reads clean, by the amplitude "
+             "(*by amplitude*: its trimmed reading at least 0.2 and 0.7 of the plain one; "
+             "noise_estimate.h's amplitude_noisy). *read anyway*: the amplitude also where the "
+             "mesh reads clean (noise_probe --amplitude-always; the filter keeps it only on "
+             "meshes that read noisy). *dense*: with impulses, the reading against the dense "
+             "noise's level (the impulses are read apart, analysis/impulses.h).\n",
              "## Share within 0.7-1.3 of the truth\n",
-             "| noise | cases | read noisy | level | amplitude | amplitude vs above-10 | "
-             "read anyway | read anyway vs dense |",
-             "|---|---|---|---|---|---|---|---|"]
+             "| noise | cases | read noisy | by amplitude | level | amplitude | "
+             "amplitude vs above-10 | read anyway | read anyway vs dense |",
+             "|---|---|---|---|---|---|---|---|---|"]
 
     def group(label, pick):
         g = [r for r in rows if pick(r)]
@@ -159,7 +161,9 @@ def report(rows, clean_rows, cmd):
             return
         share = lambda key, truth: sum(within(r[key] / r[truth]) for r in g) / len(g)
         noisy = sum(r["noisy"] for r in g) / len(g)
-        lines.append(f"| {label} | {len(g)} | {noisy:.2f} | {share('level_read', 'truth'):.2f} | "
+        by_amplitude = sum(r["noisy_by_amplitude"] for r in g) / len(g)
+        lines.append(f"| {label} | {len(g)} | {noisy:.2f} | {by_amplitude:.2f} | "
+                     f"{share('level_read', 'truth'):.2f} | "
                      f"{share('amplitude', 'truth'):.2f} | {share('amplitude', 'truth_above_10'):.2f} | "
                      f"{share('anyway', 'truth'):.2f} | {share('anyway', 'level'):.2f} |")
     group("all", lambda r: True)
@@ -182,11 +186,12 @@ def report(rows, clean_rows, cmd):
                      f"{r['correlation_read']} | {r['anyway']:.3f} |")
     lines += ["\n## The clean meshes, read anyway\n",
               "What the amplitude reads on the clean meshes themselves (the truth is 0): the shape "
-              "it cannot tell from noise.\n", "| mesh | kind | noisy | level read | read anyway |",
-              "|---|---|---|---|---|"]
+              "it cannot tell from noise; *trimmed*: its reading on trimmed bands.\n",
+              "| mesh | kind | noisy | level read | read anyway | trimmed |",
+              "|---|---|---|---|---|---|"]
     for r in clean_rows:
         lines.append(f"| {r['mesh']} | {r['kind']} | {'yes' if r['noisy'] else 'no'} | "
-                     f"{r['level_read']:.3f} | {r['anyway']:.3f} |")
+                     f"{r['level_read']:.3f} | {r['anyway']:.3f} | {r['trimmed']:.3f} |")
     return "\n".join(lines) + "\n"
 
 
@@ -264,10 +269,12 @@ def main():
     for r in rows:
         p = read[r["path"]]
         r.update(level_read=p["level"], amplitude=p["amplitude"], noisy=p["noisy"],
+                 noisy_by_amplitude=p["noisy_by_amplitude"],
                  correlation_read=p["correlation_steps"], anyway=anyway[r["path"]]["amplitude"])
     for r in clean_rows:
         p = anyway[r["path"]]
-        r.update(level_read=p["level"], noisy=p["noisy"], anyway=p["amplitude"])
+        r.update(level_read=p["level"], noisy=p["noisy"], anyway=p["amplitude"],
+                 trimmed=p["trimmed_amplitude"])
     cmd = "python3 bench/studies/noise_truth.py" + (" --quick" if args.quick else "")
     (work / "rows.json").write_text(json.dumps(rows, indent=1))
     text = report(rows, clean_rows, cmd)

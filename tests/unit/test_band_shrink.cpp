@@ -616,18 +616,6 @@ TEST(OrganicSmooth, MoreStrengthKeepsActingPastTheCoarsestBand) {
   EXPECT_LT(largestDifference(run(1.0, 4), run(1.0 + 1e-6, 4)) / edge, 1e-3);
 }
 
-// The robust bands' trimmed mean: the mean of the values below the quantile, at least one kept.
-TEST(BandShrinkStages, TrimmedMeanKeepsTheValuesBelowTheQuantile) {
-  std::vector<double> x = {5, 1, 4, 2, 3};
-  EXPECT_DOUBLE_EQ(detail::trimmedMean(x, 0.6), 2.0); // 1, 2, 3
-  x = {5, 1, 4, 2, 3};
-  EXPECT_DOUBLE_EQ(detail::trimmedMean(x, 1.0), 3.0);
-  x = {5, 1, 4, 2, 3};
-  EXPECT_DOUBLE_EQ(detail::trimmedMean(x, 0.01), 1.0);
-  x.clear();
-  EXPECT_DOUBLE_EQ(detail::trimmedMean(x, 0.5), 0.0);
-}
-
 // Counted vertices: movable and with a ring; slots number them in vertex order, and the sum runs
 // over them only.
 TEST(BandShrinkStages, CountedVerticesSkipFixedAndIsolatedOnes) {

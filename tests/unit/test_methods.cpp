@@ -177,6 +177,22 @@ TEST(Methods, CorrelatedPhraseNamesTheFactorAndTheShare) {
   EXPECT_EQ(detail::correlatedPhrase(1.4, 0.0, noise), "");
 }
 
+// The summary's amplitude says what was read and, when the amplitude made the mesh noisy, so.
+TEST(Methods, AmplitudePhraseSaysWhenTheAmplitudeMadeTheMeshNoisy) {
+  NoiseEstimate noise;
+  EXPECT_EQ(detail::amplitudePhrase(noise), ""); // not read
+  noise.amplitude = 0.4123;
+  EXPECT_EQ(detail::amplitudePhrase(noise), "amplitude 0.412 (white), ");
+  noise.correlation_steps = 4;
+  noise.correlated_share = 0.8;
+  noise.trimmed_amplitude = 0.3987;
+  noise.noisy_by_amplitude = true;
+  EXPECT_EQ(detail::amplitudePhrase(noise),
+            "amplitude 0.412 (80 % of it correlated over about 2 rings), noisy by its amplitude "
+            "(0.399 on trimmed bands: noise correlated over several rings, which one pair barely "
+            "changes), ");
+}
+
 TEST(Strengthen, ScalesBelowOneAndAddsFullAmountsAboveIt) {
   EXPECT_DOUBLE_EQ(detail::strengthen(0.6, 1.0), 0.6);
   EXPECT_DOUBLE_EQ(detail::strengthen(0.6, 0.5), 0.3);

@@ -167,3 +167,21 @@ TEST(NoiseAmplitude, SmallMeshesReadTheBandsTheyHoldAndTinyOnesNone) {
     EXPECT_NEAR(a.amplitude, 0.4, 0.08) << "steps " << steps;
   }
 }
+
+TEST(NoiseAmplitude, TheTrimmedReadingAgreesOnNoiseAndLeavesACleanBoxsCreasesOut) {
+  // Noise's band displacements are Gaussian at every vertex whatever its correlation: the
+  // trimmed energies read what the plain ones do.
+  const MeshArrays flat = plane();
+  const double edge = test_meshes::meanEdge(flat);
+  for (int steps : {0, 4}) {
+    const NoiseAmplitude a = amplitudeOf(test_meshes::withCorrelatedNoise(flat, 0.4 * edge, steps, 5));
+    RecordProperty("trimmed_" + std::to_string(steps), std::to_string(a.trimmed_amplitude));
+    EXPECT_NEAR(a.trimmed_amplitude, a.amplitude, 0.1 * a.amplitude) << "steps " << steps;
+  }
+  // A clean box (9602 vertices): its creases are all the plain amplitude reads, and the trimmed
+  // energies leave them out.
+  const NoiseAmplitude box = amplitudeOf(test_meshes::box(1.0, 0.7, 0.5, 40));
+  RecordProperty("box", std::to_string(box.amplitude) + " " + std::to_string(box.trimmed_amplitude));
+  EXPECT_GT(box.amplitude, 0.0);
+  EXPECT_LT(box.trimmed_amplitude, 0.3 * box.amplitude);
+}

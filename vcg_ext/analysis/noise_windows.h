@@ -81,7 +81,8 @@ inline std::vector<std::uint8_t> windowCores(const std::vector<Face> &faces,
 } // namespace detail
 
 // The amplitude of a large mesh on its own few windows (NoiseWindowParams::amplitude_windows),
-// whose margins cover the coarse bands: into `out`, which keeps the spectrum's figures.
+// whose margins cover the coarse bands: into `out`, which keeps the spectrum's figures, with the
+// amplitude's part of the decision (noise_estimate.h's decideNoisyByAmplitude).
 inline void readAmplitudeOnWindows(const MeshArrays &mesh, const Rings &rings,
                                    const std::vector<std::uint8_t> &fixed, double edge,
                                    const NoiseWindowParams &windows,
@@ -91,11 +92,15 @@ inline void readAmplitudeOnWindows(const MeshArrays &mesh, const Rings &rings,
   if (seeds.empty()) return;
   std::vector<int> source;
   const std::vector<int> distance = detail::ringDistance(rings, seeds, reach, &source);
+  NoiseEstimateParams always = params; // these windows' own decision is not the mesh's
+  always.amplitude_when_clean = true;
   const NoiseEstimate a = detail::measureOnWindows(
-      mesh, fixed, distance, source, windows.amplitude_core_rings, reach, rings, edge, params);
+      mesh, fixed, distance, source, windows.amplitude_core_rings, reach, rings, edge, always);
   out.amplitude = a.amplitude;
   out.correlation_steps = a.correlation_steps;
   out.correlated_share = a.correlated_share;
+  out.trimmed_amplitude = a.trimmed_amplitude;
+  detail::decideNoisyByAmplitude(params, out);
 }
 
 // True, with `out`, when the windows were used; false (`out` untouched): the caller estimates on
@@ -124,7 +129,8 @@ inline bool estimateNoiseOnWindows(const MeshArrays &mesh, const Rings &rings,
   long core_faces = 0;
   for (std::uint8_t c : detail::windowCores(mesh.faces, distance, windows.core_rings)) core_faces += c;
   out.sampled_share = m > 0 ? double(core_faces) / double(m) : 1.0;
-  if (params.amplitude && out.noisy) readAmplitudeOnWindows(mesh, rings, fixed, edge, windows, params, out);
+  if (params.amplitude && (out.noisy || params.amplitude_when_clean || params.amplitude_noisy > 0))
+    readAmplitudeOnWindows(mesh, rings, fixed, edge, windows, params, out);
   return true;
 }
 

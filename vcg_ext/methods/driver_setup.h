@@ -211,14 +211,22 @@ inline std::string measuredCleanPhrase(const NoiseEstimate &noise) {
                     NoiseEstimateParams().max_decay);
 }
 
-// The amplitude in the summary lines (noise_amplitude.h), when it was read.
+// The amplitude in the summary lines (noise_amplitude.h), when it was read; and why a mesh that
+// one Taubin pair barely changes reads noisy (NoiseEstimateParams::amplitude_noisy).
 inline std::string amplitudePhrase(const NoiseEstimate &noise) {
   if (!(noise.amplitude > 0)) return std::string();
-  return noise.correlation_steps > 0 && noise.correlated_share > 0.005
-             ? formatLine("amplitude %.3f (%.0f %% of it correlated over about %d rings), ",
-                          noise.amplitude, 100.0 * noise.correlated_share,
-                          std::max(1, int(std::lround(std::sqrt(noise.correlation_steps)))))
-             : formatLine("amplitude %.3f (white), ", noise.amplitude);
+  const std::string by_amplitude =
+      noise.noisy_by_amplitude
+          ? formatLine("noisy by its amplitude (%.3f on trimmed bands: noise correlated over "
+                       "several rings, which one pair barely changes), ",
+                       noise.trimmed_amplitude)
+          : std::string();
+  return (noise.correlation_steps > 0 && noise.correlated_share > 0.005
+              ? formatLine("amplitude %.3f (%.0f %% of it correlated over about %d rings), ",
+                           noise.amplitude, 100.0 * noise.correlated_share,
+                           std::max(1, int(std::lround(std::sqrt(noise.correlation_steps)))))
+              : formatLine("amplitude %.3f (white), ", noise.amplitude)) +
+         by_amplitude;
 }
 
 // After the strength in the summary lines: the heavy-noise factor when it acts on a noisy mesh

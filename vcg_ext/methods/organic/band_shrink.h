@@ -37,6 +37,7 @@
 #include "vcg_ext/core/position_hash.h"
 #include "vcg_ext/core/ramp.h"
 #include "vcg_ext/core/selection.h"
+#include "vcg_ext/core/trimmed_mean.h"
 #include "vcg_ext/smoothing/taubin.h"
 #include "vcg_ext/smoothing/spatial_taubin.h"
 #include "vcg_ext/smoothing/taubin_chebyshev.h"
@@ -331,16 +332,6 @@ struct CountedVertices {
     return total;
   }
 };
-
-// Mean of the values below the robust quantile (reorders x).
-inline double trimmedMean(std::vector<double> &x, double quantile) {
-  if (x.empty()) return 0.0;
-  const size_t keep = std::max<size_t>(1, size_t(quantile * double(x.size())));
-  std::nth_element(x.begin(), x.begin() + (keep - 1), x.end());
-  double sum = 0;
-  for (size_t i = 0; i < keep; ++i) sum += x[i];
-  return sum / double(keep);
-}
 
 // Only the finest bands are trimmed (BandShrinkParams::robust_quantile, robust_max_pairs): the
 // others need no per-value copy.
