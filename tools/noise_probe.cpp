@@ -51,6 +51,7 @@ int main(int argc, char **argv) {
     for (size_t b = 0; b < e.spectrum.size(); ++b)
       std::printf("%s%.5f", b ? ", " : "", e.spectrum[b]);
     std::printf("], \"amplitude\": %.5f, \"correlation_steps\": %d, \"correlated_share\": %.4f"
+                ", \"trimmed_amplitude\": %.5f, \"noisy_by_amplitude\": %s"
                 ", \"spread_deg\": %.4f, \"smoothed_spread_deg\": %.4f, \"decay\": %.5f, "
                 "\"counted_vertices\": %ld, \"seconds\": %.4f}\n",
                 e.amplitude, e.correlation_steps, e.correlated_share, e.trimmed_amplitude,

@@ -90,12 +90,12 @@ TEST(NoiseEstimate, RingCorrelatedNoise) {
   EXPECT_NEAR(*std::max_element(e.spectrum.begin(), e.spectrum.end()), sigma, 0.2 * sigma);
 }
 
-// Noise correlated over six smoothing steps changes little under one Taubin pair, so the pair's
-// test reads it clean; its amplitude reads it, trimmed and plain alike (noise_estimate.h's
+// Heavy noise correlated over six smoothing steps changes little under one Taubin pair, so the
+// pair's test reads it clean; its amplitude reads it, trimmed and plain alike (noise_estimate.h's
 // amplitude_noisy), while clean shapes' trimmed readings stay far below.
 TEST(NoiseEstimate, NoiseCorrelatedOverManyRingsReadsNoisyByItsAmplitude) {
   const MeshArrays sphere = test_meshes::icosphere(1.0, 5); // 10242 vertices: all eight bands
-  const MeshArrays noisy = test_meshes::withCorrelatedNoise(sphere, 0.5 * meanEdge(sphere), 6, 11);
+  const MeshArrays noisy = test_meshes::withCorrelatedNoise(sphere, 0.7 * meanEdge(sphere), 6, 11);
   NoiseEstimateParams pair_only;
   pair_only.amplitude_noisy = 0;
   const NoiseEstimate before = estimateNoise(noisy.points, noisy.faces, pair_only);
@@ -106,7 +106,7 @@ TEST(NoiseEstimate, NoiseCorrelatedOverManyRingsReadsNoisyByItsAmplitude) {
   EXPECT_TRUE(e.noisy);
   EXPECT_TRUE(e.noisy_by_amplitude);
   EXPECT_EQ(e.decay, before.decay);
-  EXPECT_NEAR(e.amplitude, 0.5, 0.15);
+  EXPECT_NEAR(e.amplitude, 0.7, 0.2);
   EXPECT_GE(e.trimmed_amplitude, NoiseEstimateParams().amplitude_noisy_share * e.amplitude);
   for (const MeshArrays &m : {sphere, test_meshes::box(1.0, 0.7, 0.5, 40),
                               test_meshes::cylinder(1.0, 3.0, 128, 80)}) {
