@@ -82,6 +82,7 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   real("o.fold_min_tail", o.fold_min_tail);
   real("o.fold_min_level", o.fold_min_level);
   real("o.heavy_share_power", o.heavy_share_power);
+  real("o.unseen_strength", o.unseen_noise_strength);
   real("o.heavy_from", o.heavy.from);
   real("o.heavy_power", o.heavy.power);
   real("o.heavy_max", o.heavy.max_factor);

@@ -18,7 +18,7 @@ mesh's mean edge lengths, over all vertices; beside it the part above its own 10
 case, and the share of cases whose reading is within 0.7-1.3 of the truth, per noise kind and
 level. Seeded, deterministic.
 
-    python3 bench/studies/noise_truth.py [--build build] [--quick]
+    python3 bench/studies/noise_truth.py [--build build] [--quick] [--amplitude-noisy T]
     python3 bench/studies/noise_truth.py --heavy      # the heavy depth-camera set instead
 
 About 10 minutes on two cores (--quick: two meshes, a few minutes). --heavy reads the 44 cases of
@@ -145,8 +145,8 @@ def report(rows, clean_rows, cmd):
              "read with; *truth*: rms of the added noise along the normals (mean edge lengths); "
              "*above 10*: its part above the 10-step low-pass.\n",
              "*read noisy*: by one Taubin pair's test or, where that reads clean, by the amplitude "
-             "(*by amplitude*: its trimmed reading at least 0.2 and 0.7 of the plain one; "
-             "noise_estimate.h's amplitude_noisy). *read anyway*: the amplitude also where the "
+             "(*by amplitude*: its trimmed reading at least noise_estimate.h's amplitude_noisy, "
+             "0.5, or the command's --amplitude-noisy, and 0.7 of the plain one). *read anyway*: the amplitude also where the "
              "mesh reads clean (noise_probe --amplitude-always; the filter keeps it only on "
              "meshes that read noisy). *dense*: with impulses, the reading against the dense "
              "noise's level (the impulses are read apart, analysis/impulses.h).\n",
@@ -182,7 +182,8 @@ def report(rows, clean_rows, cmd):
     for r in rows:
         lines.append(f"| {r['mesh']} | {r['kind']} | {r['steps']} | {r['level']} | "
                      f"{'yes' if r['impulses'] else ''} | {r['truth']:.3f} | {r['truth_above_10']:.3f} | "
-                     f"{'yes' if r['noisy'] else 'no'} | {r['level_read']:.3f} | {r['amplitude']:.3f} | "
+                     f"{('by amplitude' if r['noisy_by_amplitude'] else 'yes') if r['noisy'] else 'no'} | "
+                     f"{r['level_read']:.3f} | {r['amplitude']:.3f} | "
                      f"{r['correlation_read']} | {r['anyway']:.3f} |")
     lines += ["\n## The clean meshes, read anyway\n",
               "What the amplitude reads on the clean meshes themselves (the truth is 0): the shape "
@@ -242,6 +243,9 @@ def main():
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--out", default=None)
     ap.add_argument("--heavy", action="store_true", help="the heavy depth-camera set instead")
+    ap.add_argument("--amplitude-noisy", type=float, default=None,
+                    help="the amplitude's decision threshold instead of the estimate's default "
+                         "(noise_probe --amplitude-noisy; 0: the pair's test alone)")
     args = ap.parse_args()
     if args.heavy:
         text = heavy_report(heavy_rows(pathlib.Path(args.build), args.jobs))
@@ -263,9 +267,10 @@ def main():
             meshio.write_ply(path, *meshio.midpoint_subdivide(points, faces))
             clean_rows.append({"mesh": name + " x4", "kind": kind, "path": str(path)})
     build = pathlib.Path(args.build)
-    read = probe(build, [r["path"] for r in rows], args.jobs)
+    flags = [] if args.amplitude_noisy is None else ["--amplitude-noisy", str(args.amplitude_noisy)]
+    read = probe(build, [r["path"] for r in rows], args.jobs, flags)
     anyway = probe(build, [r["path"] for r in rows + clean_rows], args.jobs,
-                   ["--amplitude-always"])
+                   flags + ["--amplitude-always"])
     for r in rows:
         p = read[r["path"]]
         r.update(level_read=p["level"], amplitude=p["amplitude"], noisy=p["noisy"],
@@ -275,7 +280,8 @@ def main():
         p = anyway[r["path"]]
         r.update(level_read=p["level"], noisy=p["noisy"], anyway=p["amplitude"],
                  trimmed=p["trimmed_amplitude"])
-    cmd = "python3 bench/studies/noise_truth.py" + (" --quick" if args.quick else "")
+    cmd = "python3 bench/studies/noise_truth.py" + (" --quick" if args.quick else "") + (
+        f" --amplitude-noisy {args.amplitude_noisy}" if args.amplitude_noisy is not None else "")
     (work / "rows.json").write_text(json.dumps(rows, indent=1))
     text = report(rows, clean_rows, cmd)
     pathlib.Path(args.out).write_text(text)

@@ -802,6 +802,33 @@ TEST(OrganicSmoothStages, HeavyNoiseMultipliesTheStrengthWhereNoiseWasMeasured) 
   EXPECT_EQ(report.amount, 0.0);
 }
 
+// Noise only the amplitude reads (NoiseEstimate::noisy_by_amplitude) doubles the strength, on top
+// of the heavy-noise factor; nowhere else, and never on a clean reading.
+TEST(OrganicSmoothStages, NoiseOnlyTheAmplitudeReadsDoublesTheStrength) {
+  const MeshArrays clean = test_meshes::icosphere(1.0, 4);
+  MeshArrays noisy = clean;
+  test_meshes::addNoise(noisy, 0.25 * meanEdge(clean), 6);
+  OrganicSmoothParams params;
+  detail::DriverSetup setup = detail::driverSetup(noisy, false);
+  OrganicSmoothReport report;
+  detail::organicAmount(noisy, setup, params, report);
+  EXPECT_EQ(report.unseen_factor, 1.0);
+  const double strength = report.strength, amount = report.amount;
+  setup.noise.noisy_by_amplitude = true;
+  detail::organicAmount(noisy, setup, params, report);
+  EXPECT_EQ(report.unseen_factor, 2.0);
+  EXPECT_DOUBLE_EQ(report.strength, 2 * strength);
+  EXPECT_DOUBLE_EQ(report.amount, detail::strengthen(amount / strength, 2 * strength));
+  params.unseen_noise_strength = 1.0; // off
+  detail::organicAmount(noisy, setup, params, report);
+  EXPECT_EQ(report.strength, strength);
+  detail::DriverSetup clean_setup = detail::driverSetup(clean, false);
+  clean_setup.noise.noisy_by_amplitude = true; // a clean reading never takes the factor
+  detail::organicAmount(clean, clean_setup, OrganicSmoothParams(), report);
+  EXPECT_EQ(report.unseen_factor, 1.0);
+  EXPECT_EQ(report.amount, 0.0);
+}
+
 TEST(OrganicSmoothStages, PatchUpdatesGoTheMeasuredStepAndStopWhenCancelled) {
   MeshArrays noisy = test_meshes::icosphere(1.0, 3);
   test_meshes::addNoise(noisy, 0.1 * meanEdge(noisy), 6);
