@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The noise estimate of vcg_ext/analysis/noise_estimate.h (tools/noise_probe) on clean and noisy meshes:
-writes docs/studies/noise-estimate.md, a table of every mesh's figures and decision, the decision's
+writes bench/out/studies/NOISE_ESTIMATE.md (the tables docs/studies/noise-estimate.md quotes), a table of every mesh's figures and decision, the decision's
 thresholds fitted on one half of the meshes and reported on both halves.
 
 The meshes: the public benchmark's clean and noisy meshes, the paper's models (cow, fandisk,
@@ -17,7 +17,7 @@ hash of the mesh's name; the real scans are held out. The thresholds (max_decay,
 chosen on the fit half only: no clean mesh of the promise (see below) may read noisy, then as many
 noisy meshes as possible read noisy.
 
-    python3 bench/studies/noise_estimate.py [--build build] [--out docs/studies/noise-estimate.md] [--work DIR]
+    python3 bench/studies/noise_estimate.py [--build build] [--out FILE] [--work DIR]
 
 About 5 minutes on one core. Needs libcgal-demo (apt-get install libcgal-demo) and numpy.
 """
