@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The noise estimate of vcg_ext/analysis/noise_estimate.h (tools/noise_probe) on clean and noisy meshes:
-writes bench/out/studies/NOISE_ESTIMATE.md (the tables docs/studies/noise-estimate.md quotes), a table of every mesh's figures and decision, the decision's
-thresholds fitted on one half of the meshes and reported on both halves.
+writes bench/out/studies/NOISE_ESTIMATE.md (the tables docs/studies/noise-estimate.md quotes): a
+table of every mesh's figures and decision, the decision's thresholds fitted on one half of the
+meshes and reported on both halves.
 
 The meshes: the public benchmark's clean and noisy meshes, the paper's models (cow, fandisk,
 mountain clean and noisy), Debian's libcgal-demo meshes (organic and CAD), the three real scans
