@@ -108,6 +108,14 @@ TEST(NoiseEstimate, NoiseCorrelatedOverManyRingsReadsNoisyByItsAmplitude) {
   EXPECT_EQ(e.decay, before.decay);
   EXPECT_NEAR(e.amplitude, 0.7, 0.2);
   EXPECT_GE(e.trimmed_amplitude, NoiseEstimateParams().amplitude_noisy_share * e.amplitude);
+  // Such noise tilts the normals: its spread is past the gate below which the amplitude does not
+  // decide (and is not read).
+  EXPECT_GE(e.spread_deg, NoiseEstimateParams().amplitude_noisy_min_spread_deg);
+  NoiseEstimateParams gated;
+  gated.amplitude_noisy_min_spread_deg = e.spread_deg + 1;
+  const NoiseEstimate below = estimateNoise(noisy.points, noisy.faces, gated);
+  EXPECT_FALSE(below.noisy);
+  EXPECT_EQ(below.trimmed_amplitude, 0.0);
   for (const MeshArrays &m : {sphere, test_meshes::box(1.0, 0.7, 0.5, 40),
                               test_meshes::cylinder(1.0, 3.0, 128, 80)}) {
     const NoiseEstimate clean = estimate(m);

@@ -129,7 +129,8 @@ inline bool estimateNoiseOnWindows(const MeshArrays &mesh, const Rings &rings,
   long core_faces = 0;
   for (std::uint8_t c : detail::windowCores(mesh.faces, distance, windows.core_rings)) core_faces += c;
   out.sampled_share = m > 0 ? double(core_faces) / double(m) : 1.0;
-  if (params.amplitude && (out.noisy || params.amplitude_when_clean || params.amplitude_noisy > 0))
+  if (params.amplitude &&
+      (out.noisy || params.amplitude_when_clean || detail::amplitudeMayDecide(params, out)))
     readAmplitudeOnWindows(mesh, rings, fixed, edge, windows, params, out);
   return true;
 }
