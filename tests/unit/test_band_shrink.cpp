@@ -819,9 +819,17 @@ TEST(OrganicSmoothStages, NoiseOnlyTheAmplitudeReadsDoublesTheStrength) {
   EXPECT_EQ(report.unseen_factor, 2.0);
   EXPECT_DOUBLE_EQ(report.strength, 2 * strength);
   EXPECT_DOUBLE_EQ(report.amount, detail::strengthen(amount / strength, 2 * strength));
+  // The summary names it after the strength.
+  const std::string summary = detail::organicSummary(report, params, MethodRun(), noisy.points.size());
+  EXPECT_NE(summary.find(", the strength x 2.00 for noise only its amplitude reads: removed"),
+            std::string::npos)
+      << summary;
   params.unseen_noise_strength = 1.0; // off
   detail::organicAmount(noisy, setup, params, report);
   EXPECT_EQ(report.strength, strength);
+  EXPECT_EQ(detail::organicSummary(report, params, MethodRun(), noisy.points.size())
+                .find("only its amplitude"),
+            std::string::npos);
   detail::DriverSetup clean_setup = detail::driverSetup(clean, false);
   clean_setup.noise.noisy_by_amplitude = true; // a clean reading never takes the factor
   detail::organicAmount(clean, clean_setup, OrganicSmoothParams(), report);

@@ -323,16 +323,17 @@ inline std::string organicSummary(const OrganicSmoothReport &r, const OrganicSmo
     return "Organic: " + cleanAfterImpulsesPhrase(r.impulses, r.noise) + ".";
   if (r.amount <= 0) return "Organic: " + measuredCleanPhrase(r.noise) + ".";
   return "Organic: " + noisePhrase(r.noise, r.roughness) + impulsePhrase(r.impulses) +
-         formatLine("; strength %.2f%s%s: ", p.strength,
+         formatLine("; strength %.2f%s%s%s: ", p.strength,
                     tailPhrase(r.tail_factor, r.amount, r.noise).c_str(),
                     (r.heavy_factor > 1
                          ? formatLine(", the strength x %.2f for heavy noise", r.heavy_factor)
                          : std::string())
-                            .c_str()) +
-         (r.unseen_factor > 1
-              ? formatLine("the strength x %.2f for noise only its amplitude reads, ",
-                           r.unseen_factor)
-              : std::string()) +
+                        .c_str(),
+                    (r.unseen_factor > 1
+                         ? formatLine(", the strength x %.2f for noise only its amplitude reads",
+                                      r.unseen_factor)
+                         : std::string())
+                        .c_str()) +
          (r.fold_moves > 0 ? formatLine("untangled folds (%ld vertex moves), ", r.fold_moves)
                            : std::string()) +
          formatLine("removed %.2f of the noise along the normals (%.3f mean edge lengths); ",
