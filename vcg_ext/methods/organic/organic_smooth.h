@@ -94,7 +94,7 @@ struct OrganicSmoothReport {
   double tail_factor = 1; // the noise's heavy-tail factor on the measured need (heavyTailFactor)
   double heavy_factor = 1; // the heavy-noise factor on the strength (heavyNoiseFactor)
   double strength = 1;     // the strength the bands ran with: the user's times both factors
-  double unseen_factor = 1; // on the strength for noise only the amplitude reads (unseen_noise_strength)
+  double unseen_factor = 1; // on the strength for noise only the amplitude reads
   long fold_moves = 0; // moves of folded vertices onto their ring's barycentre (fold_repair.h)
   Impulses impulses;   // read, and put back first (impulse_repair.h)
   BandShrinkReport bands;
@@ -189,8 +189,9 @@ inline void organicAmount(const MeshArrays &mesh, DriverSetup &setup,
   report.heavy_factor = std::pow(
       report.heavy_factor,
       std::pow(std::clamp(setup.noise.correlated_share, 0.0, 1.0), params.heavy_share_power));
-  report.unseen_factor =
-      need > 0 && setup.noise.noisy_by_amplitude ? std::max(1.0, params.unseen_noise_strength) : 1.0;
+  report.unseen_factor = need > 0 && setup.noise.noisy_by_amplitude
+                             ? std::max(1.0, params.unseen_noise_strength)
+                             : 1.0;
   report.strength = params.strength * report.heavy_factor * report.unseen_factor;
   report.amount = strengthen(need, report.strength);
 }
