@@ -13,6 +13,10 @@
 // the spread it removed (degrees) so that nearly flat meshes, whose decay is a ratio of two small
 // numbers, do not decide on it (docs/studies/noise-estimate.md). A spread above
 // `noisy_spread_deg` (the feature mode's "fully noisy" threshold) is noisy whatever its decay.
+// Heavy noise correlated over several rings barely decays under one pair: where the pair reads
+// clean, the noise amplitude (noise_amplitude.h) read on trimmed band energies decides too
+// (decideNoisyByAmplitude; a clean mesh's creases are left out by the trimming, its fine relief
+// is not, hence a threshold above the relief of the clean meshes measured).
 //
 // The level: the median normal displacement that the first Taubin pair takes out, over the same
 // median of a white-noise probe run through the same pair (so it reads σ for white noise of std σ
