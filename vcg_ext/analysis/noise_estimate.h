@@ -72,7 +72,7 @@ struct NoiseEstimateParams {
   // which one pair barely changes. Noise's band displacements are Gaussian, so both readings agree
   // on it; a CAD part's creases read far less trimmed (clean anchor ×16 faces 0.26 of 0.56,
   // turbine 0.00 of 0.57). Fine relief reads like noise: the clean ChineseDragon (10k vertices)
-  // 0.42 of 0.44, the highest of the 95 clean meshes read (the next, anchor, 0.26), hence 0.5; noise
+  // 0.42 of 0.44, the highest of the 95 pair-clean meshes read (the next, anchor, 0.26): 0.5; noise
   // correlated over four rings reads from about 0.2 at level 0.2 (docs/studies/noise-estimate.md).
   // 0: the pair's test alone (the amplitude is then read on noisy meshes only).
   double amplitude_noisy = 0.5;
