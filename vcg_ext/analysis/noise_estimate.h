@@ -362,10 +362,12 @@ inline NoiseEstimate measureNoise(const std::vector<Vec3> &points, const std::ve
                          std::equal(params.band_pairs.begin(), params.band_pairs.end(),
                                     params.amplitude_bands.band_pairs.begin());
   // The trimmed reading only decides (decideNoisyByAmplitude): read where the pair's test says
-  // clean, or for a study (amplitude_when_clean).
+  // clean, or for a study (amplitude_when_clean); never with the amplitude's decision off.
   std::vector<double> trimmed_energies;
   std::vector<double> *trimmed =
-      amplitude && (!out.noisy || params.amplitude_when_clean) ? &trimmed_energies : nullptr;
+      amplitude && params.amplitude_noisy > 0 && (!out.noisy || params.amplitude_when_clean)
+          ? &trimmed_energies
+          : nullptr;
   spectrumAlongNormals(snapshot, faces, rings, interior, probe_median, out, normals,
                        amplitude ? &energies : nullptr, trimmed,
                        params.amplitude_bands.trimmed_quantile);

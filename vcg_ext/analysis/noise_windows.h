@@ -94,6 +94,7 @@ inline void readAmplitudeOnWindows(const MeshArrays &mesh, const Rings &rings,
   const std::vector<int> distance = detail::ringDistance(rings, seeds, reach, &source);
   NoiseEstimateParams always = params; // these windows' own decision is not the mesh's
   always.amplitude_when_clean = true;
+  if (out.noisy) always.amplitude_noisy = 0; // nothing left to decide: no trimmed reading
   const NoiseEstimate a = detail::measureOnWindows(
       mesh, fixed, distance, source, windows.amplitude_core_rings, reach, rings, edge, always);
   out.amplitude = a.amplitude;

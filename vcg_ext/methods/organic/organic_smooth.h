@@ -61,7 +61,7 @@ struct OrganicSmoothParams {
   // Noise that only the amplitude reads (NoiseEstimate::noisy_by_amplitude: correlated over
   // several rings, which one Taubin pair barely changes) multiplies the strength by this: the
   // shrinkage's white probe reads as little of it as the pair does. Held-out meshes under such
-  // noise: θ 0.70 of the strength-1 result, none higher; noise_truth.py's: 0.93, one higher
+  // noise: θ 0.70 of the strength-1 result, none higher; noise_truth.py's: 0.92, one higher
   // (docs/studies/noise-estimate.md). 1: off.
   double unseen_noise_strength = 2.0;
   // The noise's colour (noise_estimate.h's noiseColour) multiplies the white probe's band energies.
