@@ -91,6 +91,8 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   real("f.heavy_power", f.heavy.power);
   real("f.heavy_max", f.heavy.max_factor);
   real("f.amplitude_need", f.heavy.need_weight);
+  real("f.need_ratio_from", f.heavy.need_ratio_from);
+  real("f.need_ratio_full", f.heavy.need_ratio_full);
   real("f.correlated_extra", f.correlated.extra);
   real("f.correlated_from", f.correlated.share_from);
   real("f.correlated_full", f.correlated.share_full);

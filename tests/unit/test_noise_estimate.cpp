@@ -310,7 +310,7 @@ TEST(NoiseEstimate, AmplitudeNeedSaturatesAtATenthOfAnEdgeOnNoisyMeshesOnly) {
   e.amplitude = 0.05;
   EXPECT_EQ(amplitudeNeed(e), 0.0); // reads clean
   e.noisy = true;
-  EXPECT_NEAR(amplitudeNeed(e), 0.5, 1e-12);
+  EXPECT_NEAR(amplitudeNeed(e), 0.5, 1e-12); // (level 0: all of it beyond the finest band)
   e.amplitude = 0.14; // a red spectrum's amplitude; its finest band reads 0.04
   EXPECT_EQ(amplitudeNeed(e), 1.0);
   HeavyNoiseParams off;
@@ -318,6 +318,28 @@ TEST(NoiseEstimate, AmplitudeNeedSaturatesAtATenthOfAnEdgeOnNoisyMeshesOnly) {
   EXPECT_EQ(amplitudeNeed(e, off), 0.0);
   e.amplitude = NAN;
   EXPECT_EQ(amplitudeNeed(e), 0.0);
+}
+
+// The amplitude asks for the need only as far as it lies beyond the finest band: not at an
+// amplitude under 1.8 times the level (white noise, light noise on a CAD part's shape), in full
+// from 2.4 times it (a red spectrum), linear between.
+TEST(NoiseEstimate, AmplitudeNeedRampsInWithTheAmplitudeOverTheFinestBandsLevel) {
+  NoiseEstimate e;
+  e.noisy = true;
+  e.amplitude = 0.097;
+  e.level = 0.056; // 1.73: the subdivided Bunny under 2-view scanner noise
+  EXPECT_EQ(amplitudeNeed(e), 0.0);
+  e.amplitude = 0.14;
+  e.level = 0.04; // 3.5: a red spectrum
+  EXPECT_EQ(amplitudeNeed(e), 1.0);
+  e.level = 0.14 / 2.1; // halfway up the ramp
+  EXPECT_NEAR(amplitudeNeed(e), 0.5, 1e-12);
+  e.amplitude = 0.07;
+  e.level = 0.07 / 2.1; // and half of a need of 0.7
+  EXPECT_NEAR(amplitudeNeed(e), 0.35, 1e-12);
+  HeavyNoiseParams no_ramp;
+  no_ramp.need_ratio_from = no_ramp.need_ratio_full = 0;
+  EXPECT_NEAR(amplitudeNeed(e, no_ramp), 0.7, 1e-12);
 }
 
 TEST(NoiseEstimate, HeavyNoiseFactorIsOneUpToItsAmplitudeThenAPowerOfItCapped) {

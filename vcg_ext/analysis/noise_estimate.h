@@ -449,6 +449,13 @@ struct HeavyNoiseParams {
   // The feature mode's need reads the amplitude times this beside the finest bands' level
   // (amplitudeNeed; 0: not).
   double need_weight = 1.0;
+  // It does so in full once the amplitude is need_ratio_full times the finest bands' level, not
+  // below need_ratio_from times it (linear between). White noise reads 1.1-1.3, a red spectrum
+  // 2.5-3.8 (heavy set), so this keeps the need for noise beyond the finest band. Light noise on a
+  // CAD part reads about 2 by the part's own shape (Fandisk under white noise of 0.05: amplitude
+  // 0.14, level 0.07), as does a subdivided Bunny under 2-view scanner noise of 0.2 (1.73): there
+  // the amplitude's extra passes raised theta and took 15 % more time (docs/studies/scanner-noise.md).
+  double need_ratio_from = 1.8, need_ratio_full = 2.4;
 };
 
 // The need (0-1, as measuredRoughness's level term: saturating at a tenth of an edge length) that
@@ -460,7 +467,10 @@ inline double amplitudeNeed(const NoiseEstimate &noise, const HeavyNoiseParams &
   if (!noise.noisy || !(params.need_weight > 0) || !(noise.amplitude > 0) ||
       !std::isfinite(noise.amplitude))
     return 0.0;
-  return std::min(1.0, params.need_weight * noise.amplitude / 0.1);
+  // (a level of 0 with an amplitude: all of it lies beyond the finest band)
+  const double ratio = noise.level > 0 ? noise.amplitude / noise.level : INFINITY;
+  const double ramp = rampBetween(ratio, params.need_ratio_from, params.need_ratio_full);
+  return ramp * std::min(1.0, params.need_weight * noise.amplitude / 0.1);
 }
 
 // The factor on the amount of smoothing for noise heavier than the public benchmark's: the need
