@@ -21,6 +21,9 @@ sets the scanner-noise work is judged on, fast and in-process, for choosing and 
   holdout-scanner), bench/studies/light_holdout.py's 36 light-noise cases (holdout-light) and
   bench/studies/alpha_choice.py's 81 white-noise cases at 0.1-0.3 (holdout-white); summarised per group,
   against --base when given (the cases that moved by more than 1 %).
+- truth: bench/studies/noise_truth.py's 480 cases (white and correlated noise of 0.05-1.0 mean edge
+  lengths along the normals, with and without impulses, on eight CAD and organic meshes), made
+  into bench/out/sweep/cases/truth; summarised as the held-out groups.
 - heavywhite: add_noise 0.6 / 1.0 in random directions on the Bunny, armadillo, lion head, camel,
   Fandisk and Block (white noise as heavy as the heavy set's correlated noise).
 - --peers: a bench/scanner_bench.py raw.json whose peer scores (MeshLab's filters, the SD filter,
@@ -45,7 +48,7 @@ import noref  # noqa: E402
 import scanner_noise  # noqa: E402
 (pathlib.Path(__file__).resolve().parents[1] / "out" / "studies").mkdir(parents=True, exist_ok=True)
 
-HOLDOUT_GROUPS = ("holdout-scanner", "holdout-light", "holdout-white")
+HOLDOUT_GROUPS = ("holdout-scanner", "holdout-light", "holdout-white", "truth")
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 SHARED = REPO.parent / "shared" / "data"
@@ -123,6 +126,16 @@ def cases(sets, build):
         for name, noisy, clean in alpha_choice.cases(build, white):
             out.append(dict(name=f"holdout {name}", noisy=noisy, clean=clean,
                             group="holdout-white"))
+    if "truth" in sets:
+        import noise_truth  # noqa: E402 (its cases only)
+        work = made / "truth"
+        work.mkdir(parents=True, exist_ok=True)
+        for c in noise_truth.cases(work, False):
+            clean = work / f"{c['mesh'].replace(' ', '_')}_clean_mesh.ply"
+            if not clean.exists():
+                meshio.write_ply(clean, *noise_truth.clean_version(c["mesh"], work))
+            out.append(dict(name=f"truth {pathlib.Path(c['path']).stem}", noisy=c["path"],
+                            clean=clean, group="truth"))
     if "modechoice" in sets:
         mc = OUT / "mc"
         if not mc.exists():
@@ -203,7 +216,7 @@ def holdout_summary(results, base_tag):
         print(line)
         for n, b, r in pairs:
             if abs(r["theta_deg"] / b["theta_deg"] - 1) > 0.01:
-                print(f"    {n[len('holdout '):]}: {b['mode_ran']} {b['theta_deg']:.2f} -> "
+                print(f"    {n.split(' ', 1)[1]}: {b['mode_ran']} {b['theta_deg']:.2f} -> "
                       f"{r['mode_ran']} {r['theta_deg']:.2f}")
 
 

@@ -79,6 +79,13 @@ def clean_mesh(source, work):
     return points, faces
 
 
+def clean_version(label, work):
+    """The clean mesh of a case's `mesh` label (points, faces): " x4" is midpoint-subdivided."""
+    name = label[:-len(" x4")] if label.endswith(" x4") else label
+    points, faces = clean_mesh(dict((m[0], m[2]) for m in MESHES)[name], work)
+    return meshio.midpoint_subdivide(points, faces) if label.endswith(" x4") else (points, faces)
+
+
 def noise_field(rng, n, edges, steps, level, impulses):
     """Unit-less displacement per vertex along the normal, in mean edge lengths."""
     g = rng.standard_normal(n)
