@@ -98,6 +98,8 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   real("f.correlated_full", f.correlated.share_full);
   real("f.correlated_amp_from", f.correlated.amplitude_from);
   real("f.correlated_amp_full", f.correlated.amplitude_full);
+  real("f.correlated_ratio_from", f.correlated.ratio_from);
+  real("f.correlated_ratio_full", f.correlated.ratio_full);
   r["tail_power"] = [&p](double v) { p.feature.tails.power = p.organic.tails.power = v; };
   r["tail_max"] = [&p](double v) { p.feature.tails.max_factor = p.organic.tails.max_factor = v; };
   r["tail_from"] = [&p](double v) { p.feature.tails.level_from = p.organic.tails.level_from = v; };

@@ -342,6 +342,29 @@ TEST(NoiseEstimate, AmplitudeNeedRampsInWithTheAmplitudeOverTheFinestBandsLevel)
   EXPECT_NEAR(amplitudeNeed(e, no_ramp), 0.7, 1e-12);
 }
 
+// How correlated a noise is: the larger of its fitted share's ramp (0.3 to 0.55) and the ramp of
+// its amplitude over its finest band's level (2.4 to 3.2), times the amplitude's ramp (0.1-0.15).
+TEST(NoiseEstimate, CorrelatedRampReadsTheShareOrTheAmplitudeFarBeyondTheFinestBand) {
+  NoiseEstimate e;
+  e.noisy = true;
+  e.amplitude = 0.1625;
+  e.correlated_share = 0.28; // a red spectrum the fit gave to white noise (cylinder red_0.6)
+  e.level = 0.1625 / 2.0;    // 2: white noise with impulses reads up to about this
+  EXPECT_EQ(correlatedNoiseRamp(e), 0.0);
+  e.level = 0.1625 / 2.8; // halfway up the ratio's ramp
+  EXPECT_NEAR(correlatedNoiseRamp(e), 0.5, 1e-12);
+  e.level = 0.0462; // the cylinder's: 3.5
+  EXPECT_EQ(correlatedNoiseRamp(e), 1.0);
+  e.amplitude = 0.125; // halfway up the amplitude's ramp
+  e.level = 0.125 / 3.5;
+  EXPECT_NEAR(correlatedNoiseRamp(e), 0.5, 1e-12);
+  CorrelatedNoiseParams share_only;
+  share_only.ratio_from = share_only.ratio_full = 0;
+  EXPECT_EQ(correlatedNoiseRamp(e, share_only), 0.0);
+  e.correlated_share = 0.55; // the share alone is full
+  EXPECT_NEAR(correlatedNoiseRamp(e, share_only), 0.5, 1e-12);
+}
+
 TEST(NoiseEstimate, HeavyNoiseFactorIsOneUpToItsAmplitudeThenAPowerOfItCapped) {
   NoiseEstimate e;
   EXPECT_EQ(heavyNoiseFactor(e), 1.0); // not read

@@ -499,16 +499,26 @@ struct CorrelatedNoiseParams {
   double extra = 0.5; // 0: off
   double share_from = 0.3, share_full = 0.55;
   double amplitude_from = 0.1, amplitude_full = 0.15; // both 0: no amplitude ramp
+  // The share's fit splits the amplitude between white and correlated templates and can give a
+  // red spectrum's energy to white noise (cylinder red_0.6: share 0.28); an amplitude far beyond
+  // the finest band's level says the same thing directly, so the larger of the two ramps counts:
+  // the share's, and the amplitude over the level from ratio_from to ratio_full (both 0: the
+  // share's only). Above amplitudeNeed's ramp, where white noise with impulses reads up to about
+  // 2 (docs/studies/scanner-noise.md).
+  double ratio_from = 2.4, ratio_full = 3.2;
 };
 
-// How far a noise is into the correlated range (CorrelatedNoiseParams' two ramps, 0 to 1): 0
+// How far a noise is into the correlated range (CorrelatedNoiseParams' ramps, 0 to 1): 0
 // where the amplitude was not read or the mesh reads clean. The feature mode reads it twice
 // (correlatedNoiseFactor; its planar extra's ramp, feature_smooth.h).
 inline double correlatedNoiseRamp(const NoiseEstimate &noise,
                                   const CorrelatedNoiseParams &params = {}) {
   if (!noise.noisy || !(noise.amplitude > 0) || !std::isfinite(noise.correlated_share)) return 0.0;
-  return rampBetween(noise.correlated_share, params.share_from, params.share_full) *
-         rampBetween(noise.amplitude, params.amplitude_from, params.amplitude_full);
+  double correlated = rampBetween(noise.correlated_share, params.share_from, params.share_full);
+  if (params.ratio_full > 0 && noise.level > 0)
+    correlated = std::max(correlated, rampBetween(noise.amplitude / noise.level,
+                                                  params.ratio_from, params.ratio_full));
+  return correlated * rampBetween(noise.amplitude, params.amplitude_from, params.amplitude_full);
 }
 
 // The factor on the feature mode's need for correlated noise (CorrelatedNoiseParams): 1 where the
