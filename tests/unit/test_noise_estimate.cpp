@@ -310,7 +310,7 @@ TEST(NoiseEstimate, AmplitudeNeedSaturatesAtATenthOfAnEdgeOnNoisyMeshesOnly) {
   e.amplitude = 0.05;
   EXPECT_EQ(amplitudeNeed(e), 0.0); // reads clean
   e.noisy = true;
-  EXPECT_NEAR(amplitudeNeed(e), 0.5, 1e-12); // (level 0: all of it beyond the finest band)
+  EXPECT_NEAR(amplitudeNeed(e), 0.5, 1e-12); // (level 0, not read: no ramp)
   e.amplitude = 0.14; // a red spectrum's amplitude; its finest band reads 0.04
   EXPECT_EQ(amplitudeNeed(e), 1.0);
   HeavyNoiseParams off;

@@ -454,7 +454,8 @@ struct HeavyNoiseParams {
   // 2.5-3.8 (heavy set), so this keeps the need for noise beyond the finest band. Light noise on a
   // CAD part reads about 2 by the part's own shape (Fandisk under white noise of 0.05: amplitude
   // 0.14, level 0.07), as does a subdivided Bunny under 2-view scanner noise of 0.2 (1.73): there
-  // the amplitude's extra passes raised theta and took 15 % more time (docs/studies/scanner-noise.md).
+  // the amplitude's extra passes raised theta and took 15 % more time
+  // (docs/studies/scanner-noise.md).
   double need_ratio_from = 1.8, need_ratio_full = 2.4;
 };
 
@@ -467,7 +468,7 @@ inline double amplitudeNeed(const NoiseEstimate &noise, const HeavyNoiseParams &
   if (!noise.noisy || !(params.need_weight > 0) || !(noise.amplitude > 0) ||
       !std::isfinite(noise.amplitude))
     return 0.0;
-  // (a level of 0 with an amplitude: all of it lies beyond the finest band)
+  // (a level of 0, not read: the need as without the ramp)
   const double ratio = noise.level > 0 ? noise.amplitude / noise.level : INFINITY;
   const double ramp = rampBetween(ratio, params.need_ratio_from, params.need_ratio_full);
   return ramp * std::min(1.0, params.need_weight * noise.amplitude / 0.1);
@@ -502,9 +503,9 @@ struct CorrelatedNoiseParams {
   // The share's fit splits the amplitude between white and correlated templates and can give a
   // red spectrum's energy to white noise (cylinder red_0.6: share 0.28); an amplitude far beyond
   // the finest band's level says the same thing directly, so the larger of the two ramps counts:
-  // the share's, and the amplitude over the level from ratio_from to ratio_full (both 0: the
-  // share's only). Above amplitudeNeed's ramp, where white noise with impulses reads up to about
-  // 2 (docs/studies/scanner-noise.md).
+  // the share's, and the amplitude over the level from ratio_from to ratio_full (both 0, or a
+  // level of 0, not read: the share's only). It starts where amplitudeNeed's ramp is full: white
+  // noise with impulses reads up to about 2 (docs/studies/scanner-noise.md).
   double ratio_from = 2.4, ratio_full = 3.2;
 };
 
