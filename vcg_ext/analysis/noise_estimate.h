@@ -450,8 +450,8 @@ struct HeavyNoiseParams {
   // (amplitudeNeed; 0: not).
   double need_weight = 1.0;
   // It does so in full once the amplitude is need_ratio_full times the finest bands' level, not
-  // below need_ratio_from times it (linear between). White noise reads 1.1-1.3, a red spectrum
-  // 2.5-3.8 (heavy set), so this keeps the need for noise beyond the finest band. Light noise on a
+  // below need_ratio_from times it (linear between). White noise reads 1.0-1.7, a red spectrum
+  // 2.5-3.9 (heavy set), so this keeps the need for noise beyond the finest band. Light noise on a
   // CAD part reads about 2 by the part's own shape (Fandisk under white noise of 0.05: amplitude
   // 0.14, level 0.07), as does a subdivided Bunny under 2-view scanner noise of 0.2 (1.73): there
   // the amplitude's extra passes raised theta and took 15 % more time
