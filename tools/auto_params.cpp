@@ -119,6 +119,7 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   integer("reference_pairs", p.reference_pairs);
   real("feature_flat_share", p.feature_flat_share);
   real("feature_confirmed_share", p.feature_confirmed_share);
+  real("min_crease_density", p.min_crease_density); // 0: the confirmed share always counts
   real("flat_deg", p.flat_deg);
   integer("max_windows", p.windows.max_windows); // 0: the evidence on the whole mesh
   integer("min_windows", p.windows.min_windows);
@@ -206,8 +207,10 @@ void printFigures(const Run &run, double seconds, int faces) {
               run.ran, seconds, noise.level, feature ? feature->roughness : organic->roughness);
   for (size_t b = 0; b < noise.spectrum.size(); ++b)
     std::printf("%s%.4f", b ? ", " : "", noise.spectrum[b]);
-  std::printf("], \"flat_share\": %.4f, \"confirmed_share\": %.4f, \"crease_pairs\": %ld",
-              a.evidence.flat_share, a.evidence.confirmed_share, a.evidence.crease_pairs);
+  std::printf("], \"flat_share\": %.4f, \"confirmed_share\": %.4f, \"crease_pairs\": %ld, "
+              "\"crease_density\": %.3f",
+              a.evidence.flat_share, a.evidence.confirmed_share, a.evidence.crease_pairs,
+              a.evidence.crease_density);
   std::printf(", \"tail\": %.4f, \"tail_factor\": %.4f", noise.tail,
               feature ? feature->tail_factor : organic->tail_factor);
   std::printf(", \"amplitude\": %.4f, \"correlated_share\": %.3f", noise.amplitude,

@@ -273,7 +273,7 @@ TEST(AutoSmoothStages, SharpFeaturesByEitherShareAgainstItsThresholdAndMargin) {
   params.feature_flat_share = 0.25;
   params.feature_confirmed_share = 0.75;
   SharpFeatureEvidence e;
-  e.flat_share = 0.25, e.confirmed_share = 0.5;
+  e.flat_share = 0.25, e.confirmed_share = 0.5, e.crease_density = 8.0;
   EXPECT_TRUE(detail::hasSharpFeatures(e, params));
   EXPECT_FALSE(detail::hasSharpFeatures(e, params, 0.01, 0.0));
   EXPECT_TRUE(detail::hasSharpFeatures(e, params, -0.01, 0.0));
@@ -283,6 +283,46 @@ TEST(AutoSmoothStages, SharpFeaturesByEitherShareAgainstItsThresholdAndMargin) {
   e.confirmed_share = 0.7;
   EXPECT_FALSE(detail::hasSharpFeatures(e, params));
   EXPECT_TRUE(detail::hasSharpFeatures(e, params, 0.0, -0.05));
+}
+
+// The confirmed share counts only where the creases are dense enough for feature lines
+// (min_crease_density, 2 per √edges); the flat share does not ask for creases.
+TEST(AutoSmoothStages, ConfirmedShareCountsOnlyWithEnoughCreasesPerRootOfTheEdges) {
+  AutoSmoothParams params; // 0.235, 0.785, 2.0
+  SharpFeatureEvidence e;
+  e.flat_share = 0.05, e.confirmed_share = 0.9, e.crease_density = 2.0;
+  EXPECT_TRUE(detail::hasSharpFeatures(e, params));
+  EXPECT_FALSE(detail::hasSharpFeatures(e, params, 0, 0, 1, 0.1));  // not clear of it by 0.1
+  EXPECT_TRUE(detail::hasSharpFeatures(e, params, 0, 0, 1, -0.1));
+  e.crease_density = 0.5; // the 10M bunny: a confirmed share alone does not make a CAD part
+  EXPECT_FALSE(detail::hasSharpFeatures(e, params));
+  e.flat_share = 0.3;     // planar faces do, creases or not
+  EXPECT_TRUE(detail::hasSharpFeatures(e, params));
+}
+
+// Creases per √edges: a box's creases (its edges) read about the same at two resolutions, while a
+// smooth sphere under heavier relative noise reads far lower and falls with the resolution.
+TEST(AutoSmoothStages, CreaseDensityOfFeatureLinesDoesNotDependOnTheResolution) {
+  auto density = [](MeshArrays mesh, double noise, unsigned seed) {
+    test_meshes::addNoise(mesh, noise * meanEdge(mesh), seed);
+    detail::DriverSetup setup = detail::driverSetup(mesh, false);
+    addFaceRingLists(setup.face_rings, mesh.faces, setup.rings);
+    FirstPassCounts counts;
+    counts.prepass_pairs = counts.reference_pairs = 4;
+    counts.first.iterations = 4;
+    std::vector<Vec3> filtered, reference;
+    firstPassNormals(mesh, setup.rings, setup.face_rings, setup.fixed, setup.roles, counts,
+                     setup.stats.mean_edge_length, filtered, reference);
+    return sharpFeatureEvidence(filtered, reference, setup.face_rings, 30, 25, 1).crease_density;
+  };
+  const double coarse = density(test_meshes::box(1.0, 0.8, 0.6, 12), 0.1, 5);
+  const double fine = density(test_meshes::box(1.0, 0.8, 0.6, 36), 0.1, 5);
+  EXPECT_GT(coarse, 2.0); // 0.54 × feature-line length / √area: 2.7 for this box
+  EXPECT_NEAR(fine / coarse, 1.0, 0.1);
+  const double sphere = density(test_meshes::icosphere(1.0, 4), 0.5, 5);
+  EXPECT_GT(sphere, 0.0); // noise did leave creases
+  EXPECT_LT(sphere, 0.5);
+  EXPECT_LT(density(test_meshes::icosphere(1.0, 5), 0.5, 5), sphere);
 }
 
 // After a check delayed by heavy noise the flat share's threshold is the plain one times the delay
@@ -366,7 +406,7 @@ TEST(AutoSmoothStages, OrganicModeTakesTheSetUpsSelectionAndTheRestOfTheProgress
 // decision's time in the form of the path it took.
 TEST(AutoSmoothStages, LogSaysWhyAndHowLongTheDecisionTook) {
   AutoSmoothReport r;
-  r.evidence.flat_share = 0.3, r.evidence.confirmed_share = 0.9;
+  r.evidence.flat_share = 0.3, r.evidence.confirmed_share = 0.9, r.evidence.crease_density = 5;
   r.seconds_setup = 0.25, r.seconds_reference = 0.125;
   EXPECT_EQ(detail::evidencePhrase(r, 1000),
             "0.300 of the edges flat and 0.900 of the creases confirmed after guided filtering");
@@ -390,4 +430,13 @@ TEST(AutoSmoothStages, LogSaysWhyAndHowLongTheDecisionTook) {
             "confirmed after guided filtering, on windows holding 30 % of the faces");
   EXPECT_EQ(detail::decisionTimeLine(r),
             "Time of the decision: shared topology 0.250 s, evidence on windows 0.500 s.");
+  // Creases too sparse for a confirmed share that could have counted (within its 3 errors).
+  r.evidence.flat_share = 0.05, r.evidence.confirmed_share = 0.77, r.evidence.crease_density = 0.55;
+  r.crease_density_error = 0.24;
+  EXPECT_EQ(detail::evidencePhrase(r, 1000),
+            "0.050 ± 0.010 of face pairs 2 edges apart flat and 0.770 ± 0.020 of the creases "
+            "confirmed (too few creases to count: 0.55 ± 0.24 per square root of the edges, 2.0 "
+            "needed) after guided filtering, on windows holding 30 % of the faces");
+  r.evidence.confirmed_share = 0.6; // it could not have counted: nothing said
+  EXPECT_EQ(detail::evidencePhrase(r, 1000).find("too few"), std::string::npos);
 }

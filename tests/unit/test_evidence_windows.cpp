@@ -101,6 +101,7 @@ TEST(EvidenceWindows, WindowsOverTheWholeMeshGiveTheWholeMeshsEvidence) {
   EXPECT_EQ(windowed.evidence.flat_pairs, whole.flat_pairs);
   EXPECT_EQ(windowed.evidence.crease_pairs, whole.crease_pairs);
   EXPECT_EQ(windowed.evidence.confirmed_pairs, whole.confirmed_pairs);
+  EXPECT_DOUBLE_EQ(windowed.evidence.crease_density, whole.crease_density);
   EXPECT_GT(whole.confirmed_pairs, 0); // the counts are not trivially zero
   EXPECT_GT(whole.flat_pairs, 0);
 }

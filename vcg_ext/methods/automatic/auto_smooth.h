@@ -37,6 +37,15 @@ struct AutoSmoothParams {
   // 0.16 to 0.34 tells them apart, 0.3 also the Bunny and the armadillo under the heavy set's
   // 4-view noise (0.32-0.33 at factors 3.7-4; docs/studies/mode-choice.md).
   double flat_share_factor_power = 0.3;
+  // The confirmed share counts only on a mesh with at least this many creases per √(edges)
+  // (creaseDensity, about 0.54 × feature-line length / √area; a box reads 2.7-2.9): the meshes
+  // whose confirmed share alone made them CAD parts read 7-10, while the few creases that noise
+  // leaves on a finely resolved smooth shape read 0.5 (the 10M-vertex bunny, whose confirmed share
+  // of a few thousand creases sat at 0.76, too close to its threshold for its windows to decide;
+  // its windows read 0.55 ± 0.24, the creases bunched in a few of them, hence 2 rather than 1).
+  // Of the 151 meshes the thresholds were fitted on, the confirmed share of none that reads under
+  // 2 decided its choice (docs/studies/mode-choice.md).
+  double min_crease_density = 2.0;
   // Large meshes: the evidence is first taken on windows of the mesh (evidence_windows.h); when
   // its shares are clear of their thresholds, by at least `window_margin` and `window_errors`
   // standard errors of the sample, the choice is made on it and only the chosen mode runs, else
@@ -56,6 +65,7 @@ struct AutoSmoothReport {
   bool windowed = false;        // decided on windows of the mesh (evidence_windows.h)
   long window_faces = 0;        // the faces the windows held
   double flat_error = 0, confirmed_error = 0; // the windows' standard errors of the shares
+  double crease_density_error = 0;             // and of the crease density
   double seconds_windows = 0;   // the windows' evidence (also when it was not clear enough)
   double check_factor = 1;      // the heavy-noise factor the first pass's check waited by
   Impulses impulses;            // read, and put back first (impulse_repair.h)
@@ -73,9 +83,10 @@ inline double flatShareThreshold(const AutoSmoothParams &params, double check_fa
 
 inline bool hasSharpFeatures(const SharpFeatureEvidence &e, const AutoSmoothParams &params,
                              double flat_margin = 0, double confirmed_margin = 0,
-                             double check_factor = 1) {
+                             double check_factor = 1, double density_margin = 0) {
   return e.flat_share >= flatShareThreshold(params, check_factor) + flat_margin ||
-         e.confirmed_share >= params.feature_confirmed_share + confirmed_margin;
+         (e.confirmed_share >= params.feature_confirmed_share + confirmed_margin &&
+          e.crease_density >= params.min_crease_density + density_margin);
 }
 
 // The choice on windows of the mesh when their evidence is clear (AutoSmoothParams::windows):
@@ -100,10 +111,14 @@ inline bool decideOnWindows(const MeshArrays &mesh, const AutoSmoothParams &para
   const SharpFeatureEvidence &e = w.evidence;
   const double flat_margin = std::max(params.window_margin, params.window_errors * w.flat_error),
                confirmed_margin =
-                   std::max(params.window_margin, params.window_errors * w.confirmed_error);
+                   std::max(params.window_margin, params.window_errors * w.confirmed_error),
+               density_margin = std::max(params.window_margin * params.min_crease_density,
+                                         params.window_errors * w.crease_density_error);
   const double f = counts.heavy_factor;
-  const bool feature = hasSharpFeatures(e, params, flat_margin, confirmed_margin, f);
-  const bool organic = !hasSharpFeatures(e, params, -flat_margin, -confirmed_margin, f);
+  const bool feature =
+      hasSharpFeatures(e, params, flat_margin, confirmed_margin, f, density_margin);
+  const bool organic =
+      !hasSharpFeatures(e, params, -flat_margin, -confirmed_margin, f, -density_margin);
   if (!feature && !organic) return false;
   report.decided = report.windowed = true;
   report.chose_feature = feature;
@@ -112,6 +127,7 @@ inline bool decideOnWindows(const MeshArrays &mesh, const AutoSmoothParams &para
   report.window_faces = w.window_faces;
   report.flat_error = w.flat_error;
   report.confirmed_error = w.confirmed_error;
+  report.crease_density_error = w.crease_density_error;
   return true;
 }
 
@@ -255,11 +271,24 @@ inline std::string evidencePhrase(const AutoSmoothReport &r, size_t faces,
           ? formatLine(" (%.3f needed: the check waited x %.2f for heavy noise)", threshold,
                        r.check_factor)
           : std::string();
-  return formatLine("%.3f%s of %s flat%s and %.3f%s of the creases confirmed after guided "
+  // When the confirmed share could have made it a CAD part but the creases were too sparse for
+  // it to count (min_crease_density).
+  const bool could_count =
+      r.evidence.confirmed_share + (r.windowed ? params.window_errors * r.confirmed_error : 0.0) >=
+      params.feature_confirmed_share;
+  const std::string sparse =
+      could_count && r.evidence.crease_density < params.min_crease_density
+          ? formatLine(" (too few creases to count: %.2f%s per square root of the edges, %.1f "
+                       "needed)",
+                       r.evidence.crease_density,
+                       r.windowed ? formatLine(" ± %.2f", r.crease_density_error).c_str() : "",
+                       params.min_crease_density)
+          : std::string();
+  return formatLine("%.3f%s of %s flat%s and %.3f%s of the creases confirmed%s after guided "
                     "filtering%s",
                     r.evidence.flat_share, error(r.flat_error).c_str(), flat_what.c_str(),
                     raised.c_str(), r.evidence.confirmed_share, error(r.confirmed_error).c_str(),
-                    sample.c_str());
+                    sparse.c_str(), sample.c_str());
 }
 
 // The decision's own time: on windows, the windows' evidence; on the whole mesh, the Taubin copy

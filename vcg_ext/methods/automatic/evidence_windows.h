@@ -56,7 +56,7 @@ struct WindowedEvidence {
   SharpFeatureEvidence evidence;
   // The shares' standard errors as a sample, from their spread over the windows (infinite with
   // fewer than two windows that count).
-  double flat_error = INFINITY, confirmed_error = INFINITY;
+  double flat_error = INFINITY, confirmed_error = INFINITY, crease_density_error = INFINITY;
   long window_faces = 0, core_faces = 0;
 };
 
@@ -153,7 +153,9 @@ inline WindowTallies windowTallies(const MeshWindows &w, int windows,
 
 // The pooled evidence (the windows' counts summed: modelScaleEvidence's counts on the cores) and
 // the shares' standard errors from their spread over the windows, into `out`.
-inline void poolWindowTallies(const WindowTallies &tally, int stride, WindowedEvidence &out) {
+// `model_faces`: the whole mesh's face count, for the crease density (creaseDensity).
+inline void poolWindowTallies(const WindowTallies &tally, int stride, size_t model_faces,
+                              WindowedEvidence &out) {
   std::array<long, kCounts> sum{};
   for (const auto &t : tally)
     for (int i = 0; i < kCounts; ++i) sum[i] += t[i];
@@ -165,16 +167,23 @@ inline void poolWindowTallies(const WindowTallies &tally, int stride, WindowedEv
   e.confirmed_pairs = sum[kConfirmedCount];
   e.flat_share = share(sum[flat_part], sum[flat_whole]);
   e.confirmed_share = share(sum[kConfirmedCount], sum[kCreaseCount]);
+  e.crease_density = creaseDensity(e.crease_pairs, e.edges, model_faces);
   const size_t windows = tally.size();
-  std::vector<double> flat(windows), flat_count(windows), confirmed(windows), creases(windows);
+  std::vector<double> flat(windows), flat_count(windows), confirmed(windows), creases(windows),
+      crease_share(windows), edges(windows);
   for (size_t k = 0; k < windows; ++k) {
     flat[k] = share(tally[k][flat_part], tally[k][flat_whole]);
     flat_count[k] = double(tally[k][flat_whole]);
     confirmed[k] = share(tally[k][kConfirmedCount], tally[k][kCreaseCount]);
     creases[k] = double(tally[k][kCreaseCount]);
+    crease_share[k] = share(tally[k][kCreaseCount], tally[k][kEdgeCount]);
+    edges[k] = double(tally[k][kEdgeCount]);
   }
   out.flat_error = pooledShareError(flat, flat_count, e.flat_share);
   out.confirmed_error = pooledShareError(confirmed, creases, e.confirmed_share);
+  // The density is the creases' share of the edges scaled: its error scales alike.
+  out.crease_density_error = pooledShareError(crease_share, edges, share(e.crease_pairs, e.edges)) *
+                             std::sqrt(1.5 * double(model_faces));
 }
 
 } // namespace detail
@@ -219,7 +228,7 @@ inline WindowedEvidence windowedEvidence(const MeshArrays &mesh, const detail::D
   detail::poolWindowTallies(
       detail::windowTallies(w, int(seeds.size()), filtered, reference, face_rings, centroids,
                             stride, crease_deg, confirm_deg, flat_deg),
-      stride, out);
+      stride, mesh.faces.size(), out);
   return out;
 }
 

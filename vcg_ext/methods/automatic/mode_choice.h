@@ -28,7 +28,19 @@ struct SharpFeatureEvidence {
   long confirmed_pairs = 0;  // of the creases, smoothed-copy normals more than confirm_deg apart
   double flat_share = 0, confirmed_share = 0;
   int flat_stride = 1;       // edges between the faces the flat share compares (flatnessStride)
+  double crease_density = 0; // creases per √(edges) of the whole mesh (creaseDensity)
 };
+
+// How many creases a mesh has for its resolution: the creases' share of the edges times
+// √(1.5 · faces) (a closed mesh's edge count), i.e. creases per √(edges). A feature line of a given
+// length crosses about as many edges as √(edges) grows, so on a CAD part this reads the same at
+// any resolution (about 0.54 × the lines' length / √area: a box 2.7-2.9, the meshes whose
+// confirmed share alone made them CAD parts 7-10); creases that noise leaves here and there on a
+// smooth shape read lower the finer the mesh (0.5 on the 10M-vertex bunny;
+// docs/studies/mode-choice.md).
+inline double creaseDensity(long crease_pairs, long edges, size_t faces) {
+  return edges > 0 ? double(crease_pairs) / double(edges) * std::sqrt(1.5 * double(faces)) : 0.0;
+}
 
 // How many edges apart the faces compared for flatness lie: 1 below about 450k faces (every mesh
 // the thresholds were fitted on), then growing as the square root of the face count. A curved
@@ -142,6 +154,7 @@ inline SharpFeatureEvidence sharpFeatureEvidence(const std::vector<Vec3> &filter
   e.edges = edges, e.flat_pairs = flat, e.crease_pairs = creases, e.confirmed_pairs = confirmed;
   e.flat_share = e.edges ? double(e.flat_pairs) / double(e.edges) : 0.0;
   e.confirmed_share = e.crease_pairs ? double(e.confirmed_pairs) / double(e.crease_pairs) : 0.0;
+  e.crease_density = creaseDensity(e.crease_pairs, e.edges, filtered.size());
   return e;
 }
 
