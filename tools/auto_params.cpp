@@ -30,6 +30,7 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   FeatureSmoothParams &f = p.feature;
   OrganicSmoothParams &o = p.organic;
   r["strength"] = [&p](double v) { p.feature.strength = p.organic.strength = v; };
+  real("o.strength", o.strength); // the organic mode's alone (the choice reads the feature's)
   integer("f.prepass_pairs", f.prepass_pairs);
   real("f.planar_extra", f.planar_extra);
   real("f.planar_share_from", f.planar_share_from);
@@ -112,6 +113,7 @@ std::map<std::string, Setter> registry(AutoSmoothParams &p) {
   r["imp.isolation"] = [&p](double v) { p.feature.impulses.isolation = p.organic.impulses.isolation = v; };
   real("o.level_coloured", o.colour.level_coloured);
   real("o.noise_scale", o.bands.noise_scale);
+  integer("o.sigma_normal_pairs", o.bands.sigma_normal_pairs);
   real("o.min_noise_edges", o.bands.min_noise_edges);
   integer("o.boundary_pairs", o.bands.boundary_pairs);
   real("o.alpha_whole_patch_step", o.bands.alpha_whole_patch_step);
