@@ -38,7 +38,7 @@ struct AutoSmoothParams {
   // 4-view noise (0.32-0.33 at factors 3.7-4; docs/studies/mode-choice.md).
   double flat_share_factor_power = 0.3;
   // The confirmed share counts only on a mesh with at least this many creases per √(edges)
-  // (creaseDensity, about 0.54 × feature-line length / √area; a box reads 2.7-2.9): the meshes
+  // (creaseDensity, about 0.54 × feature-line length / √area; a box reads 2.8-2.9): the meshes
   // whose confirmed share alone made them CAD parts read 7-10, while the few creases that noise
   // leaves on a finely resolved smooth shape read 0.5 (the 10M-vertex bunny, whose confirmed share
   // of a few thousand creases sat at 0.76, too close to its threshold for its windows to decide;

@@ -34,7 +34,7 @@ struct SharpFeatureEvidence {
 // How many creases a mesh has for its resolution: the creases' share of the edges times
 // √(1.5 · faces) (a closed mesh's edge count), i.e. creases per √(edges). A feature line of a given
 // length crosses about as many edges as √(edges) grows, so on a CAD part this reads the same at
-// any resolution (about 0.54 × the lines' length / √area: a box 2.7-2.9, the meshes whose
+// any resolution (about 0.54 × the lines' length / √area: a box 2.8-2.9, the meshes whose
 // confirmed share alone made them CAD parts 7-10); creases that noise leaves here and there on a
 // smooth shape read lower the finer the mesh (0.5 on the 10M-vertex bunny;
 // docs/studies/mode-choice.md).
